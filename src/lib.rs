@@ -1,0 +1,10 @@
+//! clothbake: the Sadeghi et al. 2013 microcylinder cloth model, evaluated directly and
+//! baked into lookup tables for real-time shading.
+//!
+//! - [`model`]: the physics of MODEL.md, pure maths.
+//! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
+//! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
+
+pub mod eval_stream;
+pub mod fabric_file;
+pub mod model;

@@ -1,0 +1,222 @@
+//! The cosine-weighted patch transfer `F(wi, wo)` of MODEL.md: two thread families, each a
+//! curve of tangent samples with shadowing/masking and reweighting, normalised by `Q`.
+
+use super::curve::{CurveNode, Integration, curve_nodes};
+use super::fabric::{Fabric, GaussianWidth, Thread};
+use super::lobes::{UnitAreaGaussian, UnitHeightGaussian, fresnel_dielectric};
+use glam::DVec3;
+
+/// Below this length a projection of a unit direction counts as degenerate (the direction is
+/// parallel to the tangent or to the rotation axis). Rounding alone leaves ~1e-16 residues in
+/// the components, so a residual length of 1e-9 carries no direction; the sample then
+/// contributes 0 to s and to P, as MODEL.md prescribes.
+pub const DEGENERATE_PROJECTION: f64 = 1e-9;
+
+/// The curve means of one thread, split so that the RGB albedo factors out:
+/// `⟨s⟩ = reflection + A · transmission`, and `masking = ⟨P⟩`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ThreadMeans {
+    /// `⟨Fr cos(φd/2) g(γs, θh) M P cos θi / cos²θd⟩`
+    pub reflection: f64,
+    /// `⟨Ft ((1 − kd) g(γv, θh) + kd) M P cos θi / ((cos θi + cos θo) cos²θd)⟩`
+    pub transmission: f64,
+    /// `⟨P⟩`
+    pub masking: f64,
+}
+
+/// `F` split into a grey surface term and one volume term per thread:
+/// `F = reflection + A1 · transmission[0] + A2 · transmission[1]`, every term already
+/// weighted by its coverage and divided by `Q`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PatchTerms {
+    pub reflection: f64,
+    pub transmission: [f64; 2],
+}
+
+/// One thread family prepared for evaluation: its frame, lobes and quadrature nodes.
+#[derive(Clone, Debug)]
+pub struct ThreadModel {
+    /// Base tangent t0 (x for thread 1, y for thread 2).
+    t0: DVec3,
+    /// Rotation axis b (y for thread 1, x for thread 2).
+    b: DVec3,
+    /// Quadrature nodes with (cos α, sin α) precomputed.
+    nodes: Vec<(CurveNode, f64, f64)>,
+    eta: f64,
+    kd: f64,
+    albedo: DVec3,
+    coverage: f64,
+    surface_lobe: UnitAreaGaussian,
+    volume_lobe: UnitAreaGaussian,
+    reweight: UnitHeightGaussian,
+}
+
+/// `(1 − u)·a·b + u·min(a, b)`: the reweighted product of MODEL.md's M and P.
+#[inline]
+fn reweighted(u: f64, a: f64, b: f64) -> f64 {
+    (1.0 - u) * a * b + u * a.min(b)
+}
+
+impl ThreadModel {
+    /// Prepares `thread` as family `index` (0: thread 1 along x, 1: thread 2 along y).
+    pub fn new(fabric: &Fabric, index: usize, integration: Integration) -> Self {
+        let thread: &Thread = fabric.threads()[index];
+        let options = fabric.options;
+        let (t0, b) = if index == 0 {
+            (DVec3::X, DVec3::Y)
+        } else {
+            (DVec3::Y, DVec3::X)
+        };
+        let sigma = |gamma_deg: f64| match options.gaussian_width {
+            GaussianWidth::StdDev => gamma_deg,
+            GaussianWidth::Sqrt2StdDev => gamma_deg / std::f64::consts::SQRT_2,
+        };
+        let (sigma_s, sigma_v) = (sigma(thread.gamma_s_deg), sigma(thread.gamma_v_deg));
+        let nodes = curve_nodes(
+            thread,
+            options.tangent_sampling,
+            integration,
+            sigma_s.min(sigma_v),
+        )
+        .into_iter()
+        .map(|n| (n, n.alpha.cos(), n.alpha.sin()))
+        .collect();
+        Self {
+            t0,
+            b,
+            nodes,
+            eta: thread.eta,
+            kd: thread.kd,
+            albedo: DVec3::from_array(thread.albedo_rgb()),
+            coverage: thread.coverage,
+            surface_lobe: UnitAreaGaussian::new(sigma_s.to_radians()),
+            volume_lobe: UnitAreaGaussian::new(sigma_v.to_radians()),
+            reweight: UnitHeightGaussian::new(options.sigma_u_deg.to_radians()),
+        }
+    }
+
+    /// Number of tangent samples one evaluation visits.
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The curve means of s and P for unit directions `wi`, `wo` in the patch frame.
+    ///
+    /// Everything is expressed through the components of w in the sample's orthonormal frame
+    /// {t, n, b}, with t = cos α t0 + sin α z and n = −sin α t0 + cos α z:
+    /// - `w⊥ = w − (w·t)t = (w·n)n + (w·b)b`, so `cos θ = |w⊥| = √((w·n)² + (w·b)²)`
+    ///   (no cancellation near w ∥ t), `cos φ = (w·n)/|w⊥|` and
+    ///   `wi⊥·wo⊥ = (wi·n)(wo·n) + (wi·b)(wo·b)`.
+    /// - `w∥ = w − (w·b)b` does not depend on α: `|w∥| = √((w·t0)² + (w·z)²)`,
+    ///   `cos ψ = (w·n)/|w∥|`, and ψd is one angle per evaluation.
+    ///
+    /// M(w) and P(w) both have the sign of w·n, and the reweighted products vanish when
+    /// either factor does, so a sample with `wi·n ≤ 0` or `wo·n ≤ 0` contributes exactly 0
+    /// to s and P and is skipped.
+    ///
+    /// The factors 1/cos²θd and 1/(cos θi + cos θo) diverge as both directions approach ±t;
+    /// the code forms `cos θi/(cos θi + cos θo)` (≤ 1) and takes θi, θo from atan2 of
+    /// accurate sines and cosines, so cos θd keeps its relative accuracy down to the
+    /// degenerate threshold, where M·P·cos θi vanishes faster than cos²θd.
+    pub fn means(&self, wi: DVec3, wo: DVec3) -> ThreadMeans {
+        let (ti0, zi, bi) = (wi.dot(self.t0), wi.z, wi.dot(self.b));
+        let (to0, zo, bo) = (wo.dot(self.t0), wo.z, wo.dot(self.b));
+        let par_i = (ti0 * ti0 + zi * zi).sqrt();
+        let par_o = (to0 * to0 + zo * zo).sqrt();
+        if par_i < DEGENERATE_PROJECTION || par_o < DEGENERATE_PROJECTION {
+            return ThreadMeans::default();
+        }
+        let cos_psi_d = ((ti0 * to0 + zi * zo) / (par_i * par_o)).clamp(-1.0, 1.0);
+        let u_psi = self.reweight.eval(cos_psi_d.acos());
+
+        let mut sums = ThreadMeans::default();
+        for &(node, cos_a, sin_a) in &self.nodes {
+            let ni = zi * cos_a - ti0 * sin_a;
+            let no = zo * cos_a - to0 * sin_a;
+            if ni <= 0.0 || no <= 0.0 {
+                continue;
+            }
+            let perp_i = (ni * ni + bi * bi).sqrt();
+            let perp_o = (no * no + bo * bo).sqrt();
+            if perp_i < DEGENERATE_PROJECTION || perp_o < DEGENERATE_PROJECTION {
+                continue;
+            }
+            let masking_p = reweighted(u_psi, ni / par_i, no / par_o);
+            sums.masking += node.weight * masking_p;
+
+            let cos_phi_d = ((ni * no + bi * bo) / (perp_i * perp_o)).clamp(-1.0, 1.0);
+            let u_phi = self.reweight.eval(cos_phi_d.acos());
+            let shadowing_m = reweighted(u_phi, ni / perp_i, no / perp_o);
+
+            let si = ti0 * cos_a + zi * sin_a;
+            let so = to0 * cos_a + zo * sin_a;
+            let theta_i = si.atan2(perp_i);
+            let theta_o = so.atan2(perp_o);
+            let theta_h = 0.5 * (theta_i + theta_o);
+            let cos_theta_d = (0.5 * (theta_i - theta_o)).cos();
+            // cos(φd/2) from cos φd by the half-angle formula; φd/2 ∈ [0, π/2].
+            let cos_half_phi_d = (0.5 * (1.0 + cos_phi_d)).sqrt();
+            let fr = fresnel_dielectric(self.eta, cos_theta_d * cos_half_phi_d);
+            let ft = (1.0 - fr) * (1.0 - fr);
+
+            let common = node.weight * shadowing_m * masking_p / (cos_theta_d * cos_theta_d);
+            sums.reflection +=
+                common * fr * cos_half_phi_d * self.surface_lobe.eval(theta_h) * perp_i;
+            let volume = (1.0 - self.kd) * self.volume_lobe.eval(theta_h) + self.kd;
+            sums.transmission += common * ft * volume * (perp_i / (perp_i + perp_o));
+        }
+        sums
+    }
+}
+
+/// A fabric prepared for evaluating `F(wi, wo)` with one integration rule.
+#[derive(Clone, Debug)]
+pub struct Patch {
+    threads: [ThreadModel; 2],
+    gap: f64,
+}
+
+impl Patch {
+    /// Prepares `fabric` (assumed valid, see [`Fabric::validate`]).
+    pub fn new(fabric: &Fabric, integration: Integration) -> Self {
+        let threads = [0, 1].map(|i| ThreadModel::new(fabric, i, integration));
+        let gap = (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0);
+        Self { threads, gap }
+    }
+
+    /// The two prepared thread families.
+    pub fn threads(&self) -> &[ThreadModel; 2] {
+        &self.threads
+    }
+
+    /// `F` in the factored form [`PatchTerms`], for unit `wi`, `wo` in the patch frame.
+    /// Zero below the horizon (one-sided cloth) and where `Q = 0`.
+    pub fn terms(&self, wi: DVec3, wo: DVec3) -> PatchTerms {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return PatchTerms::default();
+        }
+        let means = self.threads.each_ref().map(|t| t.means(wi, wo));
+        let coverage = self.threads.each_ref().map(|t| t.coverage);
+        let q = coverage[0] * means[0].masking + coverage[1] * means[1].masking + self.gap * wo.z;
+        if q <= 0.0 {
+            return PatchTerms::default();
+        }
+        PatchTerms {
+            reflection: (coverage[0] * means[0].reflection + coverage[1] * means[1].reflection) / q,
+            transmission: [0, 1].map(|j| coverage[j] * means[j].transmission / q),
+        }
+    }
+
+    /// Combines factored terms into RGB with this fabric's albedos.
+    pub fn combine(&self, terms: &PatchTerms) -> DVec3 {
+        DVec3::splat(terms.reflection)
+            + self.threads[0].albedo * terms.transmission[0]
+            + self.threads[1].albedo * terms.transmission[1]
+    }
+
+    /// The cosine-weighted patch transfer `F(wi, wo)` (RGB) for unit directions in the
+    /// patch frame: outgoing radiance per unit perpendicular irradiance.
+    pub fn eval(&self, wi: DVec3, wo: DVec3) -> DVec3 {
+        self.combine(&self.terms(wi, wo))
+    }
+}
