@@ -1,1 +1,62 @@
-fn main() {}
+//! Nanoseconds per evaluation of F(wi, wo) for each built-in fabric: the converged direct
+//! evaluation and paper mode at N = 8 and 32 samples per thread.
+//!
+//! `cargo bench --bench direct_eval`; each figure is the median time of one batch of
+//! direction pairs divided by the batch size, reported by criterion per element.
+
+use clothbake::fabric_file::FabricSet;
+use clothbake::model::{Integration, Patch};
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use glam::DVec3;
+use std::hint::black_box;
+
+/// A fixed batch of upper-hemisphere direction pairs from a golden-ratio sequence, so every
+/// run and every fabric times the same work.
+fn direction_pairs(count: usize) -> Vec<(DVec3, DVec3)> {
+    let direction = |u: f64, v: f64| {
+        let z = 1.0 - u; // uniform in solid angle over the upper hemisphere
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = std::f64::consts::TAU * v;
+        DVec3::new(r * phi.cos(), r * phi.sin(), z.max(1e-3)).normalize()
+    };
+    let g = [
+        0.754_877_666_246_692_7,
+        0.569_840_290_998_053_3,
+        0.438_289_107_045_047_3,
+        0.342_979_643_571_025_6,
+    ];
+    (0..count)
+        .map(|i| {
+            let k = i as f64 + 0.5;
+            let u = g.map(|a| (k * a).fract());
+            (direction(u[0], u[1]), direction(u[2], u[3]))
+        })
+        .collect()
+}
+
+fn bench_direct_eval(c: &mut Criterion) {
+    let pairs = direction_pairs(256);
+    let mut group = c.benchmark_group("eval");
+    group.throughput(Throughput::Elements(pairs.len() as u64));
+    for fabric in FabricSet::builtin().fabrics() {
+        for (label, integration) in [
+            ("direct", Integration::Direct),
+            ("paper_n8", Integration::Paper(8)),
+            ("paper_n32", Integration::Paper(32)),
+        ] {
+            let patch = Patch::new(fabric, integration);
+            group.bench_function(BenchmarkId::new(label, &fabric.name), |b| {
+                b.iter(|| {
+                    pairs
+                        .iter()
+                        .map(|&(wi, wo)| patch.eval(black_box(wi), black_box(wo)))
+                        .sum::<DVec3>()
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_direct_eval);
+criterion_main!(benches);

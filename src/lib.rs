@@ -3,8 +3,10 @@
 //!
 //! - [`model`]: the physics of MODEL.md, pure maths.
 //! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
+//! - [`direction_sets`]: the seeded direction pairs on which errors are measured.
 //! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
 
+pub mod direction_sets;
 pub mod eval_stream;
 pub mod fabric_file;
 pub mod model;

@@ -5,14 +5,16 @@
 //! and holds the share `l_k / Σl` of the curve. A segment of length 0 is a jump (no samples);
 //! a segment with `o_k = o_{k+1}` holds its whole share at one α.
 
-use super::fabric::{TangentSampling, Thread};
+use super::fabric::{ModelOptions, TangentSampling, Thread};
 
 /// Finest α spacing, in degrees, of the direct rule. The integrand's narrowest feature in α
 /// is the surface lobe: |dθh/dα| ≤ 1 (it is the mean of cos φi and cos φo), so a lobe of
-/// standard deviation σ in θh is at least σ wide in α. The midpoint rule then has spacing
-/// ≤ σ/16 and ≤ 0.1°, and its error is set by the O(h²) kinks of M and P: measured below
-/// 1e-6 relative on the built-in fabrics (tests/direct_convergence.rs).
-pub const DIRECT_MAX_SPACING_DEG: f64 = 0.1;
+/// standard deviation σ in θh is at least σ wide in α, and σ/16 spacing resolves it to far
+/// below 1e-6. What remains are the O(h²) errors at the kinks of the reweighted min() terms:
+/// measured against an independent rule (tests/direct_convergence.rs), the largest relative
+/// difference on the built-in fabrics is 7e-5 at 0.1°, 1.6e-5 at 0.05° (this value) and
+/// 3e-6 at 0.025°, so 0.05° keeps a 6× margin under the 1e-4 that MODEL.md asks for.
+pub const DIRECT_MAX_SPACING_DEG: f64 = 0.05;
 /// Samples per standard deviation of the narrowest lobe in the direct rule.
 pub const DIRECT_SAMPLES_PER_SIGMA: f64 = 16.0;
 /// Bound on the direct rule's samples per thread, reached only for lobes narrower than
@@ -50,15 +52,15 @@ fn segment_shares(thread: &Thread) -> Vec<f64> {
     }
 }
 
-/// Quadrature nodes for the mean over `thread`'s curve. `sigma_min_deg` is the standard
-/// deviation of the thread's narrowest lobe, which sets the direct rule's spacing. Equal
-/// consecutive α are merged, so a constant segment costs one node.
+/// Quadrature nodes for the mean over `thread`'s curve. The direct rule's spacing follows
+/// the standard deviation of the thread's narrowest lobe. Equal consecutive α are merged,
+/// so a constant segment costs one node.
 pub fn curve_nodes(
     thread: &Thread,
-    sampling: TangentSampling,
+    options: &ModelOptions,
     integration: Integration,
-    sigma_min_deg: f64,
 ) -> Vec<CurveNode> {
+    let sigma_min_deg = options.lobe_sigma_deg(thread.gamma_s_deg.min(thread.gamma_v_deg));
     let offsets = &thread.offsets_deg;
     let mut nodes: Vec<CurveNode> = Vec::new();
     let mut push = |alpha_deg: f64, weight: f64| {
@@ -72,7 +74,7 @@ pub fn curve_nodes(
         push(offsets[0], 1.0);
         return nodes;
     }
-    if sampling == TangentSampling::ControlPoints {
+    if options.tangent_sampling == TangentSampling::ControlPoints {
         let w = 1.0 / offsets.len() as f64;
         for &o in offsets {
             push(o, w);
@@ -127,6 +129,24 @@ pub fn curve_nodes(
 mod tests {
     use super::*;
 
+    fn nodes_of(
+        t: &Thread,
+        sampling: TangentSampling,
+        integration: Integration,
+        gamma: f64,
+    ) -> Vec<CurveNode> {
+        let t = Thread {
+            gamma_s_deg: gamma,
+            gamma_v_deg: 2.0 * gamma,
+            ..t.clone()
+        };
+        let options = ModelOptions {
+            tangent_sampling: sampling,
+            ..ModelOptions::default()
+        };
+        curve_nodes(&t, &options, integration)
+    }
+
     fn thread(offsets: &[f64], lengths: &[f64]) -> Thread {
         Thread {
             eta: 1.5,
@@ -153,12 +173,12 @@ mod tests {
             &[1.33, 1.33, 1.33, 0., 0.67, 0.67, 0.67],
         );
         for integration in [Integration::Direct, Integration::Paper(7)] {
-            let nodes = curve_nodes(&t, TangentSampling::ArcLength, integration, 2.5);
+            let nodes = nodes_of(&t, TangentSampling::ArcLength, integration, 2.5);
             let total: f64 = nodes.iter().map(|n| n.weight).sum();
             assert!((total - 1.0).abs() < 1e-12, "{integration:?}: {total}");
         }
         // The constant segments collapse to one node each in the direct rule.
-        let nodes = curve_nodes(&t, TangentSampling::ArcLength, Integration::Direct, 2.5);
+        let nodes = nodes_of(&t, TangentSampling::ArcLength, Integration::Direct, 2.5);
         let at_30 = nodes
             .iter()
             .filter(|n| n.alpha == 30f64.to_radians())
@@ -170,7 +190,7 @@ mod tests {
     fn paper_mode_uses_strata_midpoints_in_arc_length() {
         // Lengths 1 and 3: the first quarter of arc length covers 0°→10°, the rest 10°→40°.
         let t = thread(&[0., 10., 40.], &[1., 3.]);
-        let nodes = curve_nodes(&t, TangentSampling::ArcLength, Integration::Paper(4), 1.0);
+        let nodes = nodes_of(&t, TangentSampling::ArcLength, Integration::Paper(4), 1.0);
         let alphas: Vec<f64> = nodes.iter().map(|n| n.alpha.to_degrees()).collect();
         let expected = [5.0, 15.0, 25.0, 35.0];
         for (a, e) in alphas.iter().zip(expected) {
@@ -181,10 +201,10 @@ mod tests {
     #[test]
     fn single_segment_ignores_its_length_and_single_point_is_one_node() {
         let t = thread(&[-25., 25.], &[0.0]);
-        let nodes = curve_nodes(&t, TangentSampling::ArcLength, Integration::Direct, 12.);
+        let nodes = nodes_of(&t, TangentSampling::ArcLength, Integration::Direct, 12.);
         assert!(mean_alpha_deg(&nodes).abs() < 1e-9);
         let t = thread(&[17.], &[]);
-        let nodes = curve_nodes(&t, TangentSampling::ArcLength, Integration::Paper(8), 12.);
+        let nodes = nodes_of(&t, TangentSampling::ArcLength, Integration::Paper(8), 12.);
         assert_eq!(nodes.len(), 1);
         assert!((nodes[0].alpha.to_degrees() - 17.).abs() < 1e-12);
     }
@@ -192,7 +212,7 @@ mod tests {
     #[test]
     fn control_points_option_weights_points_equally() {
         let t = thread(&[-30., -30., 30.], &[5., 1.]);
-        let nodes = curve_nodes(&t, TangentSampling::ControlPoints, Integration::Direct, 1.);
+        let nodes = nodes_of(&t, TangentSampling::ControlPoints, Integration::Direct, 1.);
         assert_eq!(nodes.len(), 2);
         assert!((nodes[0].weight - 2. / 3.).abs() < 1e-12);
         assert!((mean_alpha_deg(&nodes) - (-10.)).abs() < 1e-9);

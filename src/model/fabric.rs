@@ -236,6 +236,14 @@ impl Thread {
 }
 
 impl ModelOptions {
+    /// The standard deviation, in degrees, of a lobe whose listed width is `gamma_deg`.
+    pub fn lobe_sigma_deg(&self, gamma_deg: f64) -> f64 {
+        match self.gaussian_width {
+            GaussianWidth::StdDev => gamma_deg,
+            GaussianWidth::Sqrt2StdDev => gamma_deg / std::f64::consts::SQRT_2,
+        }
+    }
+
     fn validate(&self, fail: &dyn Fn(&str, String) -> FabricError) -> Result<(), FabricError> {
         let v = self.sigma_u_deg;
         if !v.is_finite() || v <= 0.0 || v > 180.0 {

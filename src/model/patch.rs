@@ -2,7 +2,7 @@
 //! curve of tangent samples with shadowing/masking and reweighting, normalised by `Q`.
 
 use super::curve::{CurveNode, Integration, curve_nodes};
-use super::fabric::{Fabric, GaussianWidth, Thread};
+use super::fabric::{Fabric, Thread};
 use super::lobes::{UnitAreaGaussian, UnitHeightGaussian, fresnel_dielectric};
 use glam::DVec3;
 
@@ -67,20 +67,12 @@ impl ThreadModel {
         } else {
             (DVec3::Y, DVec3::X)
         };
-        let sigma = |gamma_deg: f64| match options.gaussian_width {
-            GaussianWidth::StdDev => gamma_deg,
-            GaussianWidth::Sqrt2StdDev => gamma_deg / std::f64::consts::SQRT_2,
-        };
-        let (sigma_s, sigma_v) = (sigma(thread.gamma_s_deg), sigma(thread.gamma_v_deg));
-        let nodes = curve_nodes(
-            thread,
-            options.tangent_sampling,
-            integration,
-            sigma_s.min(sigma_v),
-        )
-        .into_iter()
-        .map(|n| (n, n.alpha.cos(), n.alpha.sin()))
-        .collect();
+        let sigma_s = options.lobe_sigma_deg(thread.gamma_s_deg);
+        let sigma_v = options.lobe_sigma_deg(thread.gamma_v_deg);
+        let nodes = curve_nodes(thread, &options, integration)
+            .into_iter()
+            .map(|n| (n, n.alpha.cos(), n.alpha.sin()))
+            .collect();
         Self {
             t0,
             b,

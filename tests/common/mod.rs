@@ -1,0 +1,184 @@
+//! Helpers shared by the integration tests, and the curated list of MODEL.md's numerically
+//! hard cases that every stability test runs.
+#![allow(dead_code)] // each test binary uses a different subset
+
+use clothbake::fabric_file::FabricSet;
+use clothbake::model::{Fabric, Thread};
+use glam::DVec3;
+
+pub fn builtin() -> Vec<Fabric> {
+    FabricSet::builtin().fabrics().to_vec()
+}
+
+pub fn fabric(name: &str) -> Fabric {
+    FabricSet::builtin()
+        .get(name)
+        .expect("built-in fabric")
+        .clone()
+}
+
+/// A unit direction from elevation above the horizon and azimuth from +x, in degrees.
+pub fn dir(elevation_deg: f64, azimuth_deg: f64) -> DVec3 {
+    let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
+    DVec3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin())
+}
+
+/// The tangent t(α) of thread `index` (0: along x, 1: along y).
+pub fn tangent(index: usize, alpha_deg: f64) -> DVec3 {
+    let t0 = if index == 0 { DVec3::X } else { DVec3::Y };
+    let a = alpha_deg.to_radians();
+    a.cos() * t0 + a.sin() * DVec3::Z
+}
+
+/// Relative RMS error of `values` against `reference`, over all RGB components.
+pub fn relative_rms(values: &[DVec3], reference: &[DVec3]) -> f64 {
+    let err: f64 = values
+        .iter()
+        .zip(reference)
+        .map(|(v, r)| (*v - *r).length_squared())
+        .sum();
+    let norm: f64 = reference.iter().map(|r| r.length_squared()).sum();
+    (err / norm).sqrt()
+}
+
+/// One numerically hard evaluation: a fabric (built-in or a stressed variant) and a pair.
+#[derive(Clone, Debug)]
+pub struct HardCase {
+    pub name: String,
+    pub fabric: Fabric,
+    pub wi: DVec3,
+    pub wo: DVec3,
+}
+
+fn with_threads(base: &Fabric, name: &str, edit: impl Fn(&mut Thread)) -> Fabric {
+    let mut f = base.clone();
+    f.name = name.to_string();
+    edit(&mut f.thread1);
+    edit(&mut f.thread2);
+    f.validate().expect("stressed variant is still valid");
+    f
+}
+
+/// The stressed fabric variants of MODEL.md "Where the numbers get hard".
+pub fn stressed_fabrics() -> Vec<Fabric> {
+    let linen = fabric("linen_plain");
+    let satin = fabric("polyester_satin_charmeuse");
+    let mut full = with_threads(&linen, "full_coverage", |_| {});
+    full.thread1.coverage = 0.5;
+    full.thread2.coverage = 0.5;
+    vec![
+        with_threads(&linen, "eta_one", |t| t.eta = 1.0),
+        with_threads(&satin, "gamma_0_01", |t| {
+            t.gamma_s_deg = 0.01;
+            t.gamma_v_deg = 0.01;
+        }),
+        full,
+        with_threads(&linen, "single_point", |t| {
+            t.offsets_deg = vec![10.0];
+            t.lengths = vec![];
+        }),
+        with_threads(&linen, "zero_length_jumps", |t| {
+            t.offsets_deg = vec![-40.0, -10.0, 20.0, 5.0, 5.0];
+            t.lengths = vec![1.0, 0.0, 0.0, 2.0];
+        }),
+        with_threads(&linen, "vertical_tangents", |t| {
+            t.offsets_deg = vec![-90.0, 90.0];
+            t.lengths = vec![1.0];
+        }),
+    ]
+}
+
+/// Direction pairs that stress one fabric: grazing, parallel to every curve end's tangent,
+/// parallel to each rotation axis, equal, mirrored.
+fn hard_pairs(fabric: &Fabric) -> Vec<(String, DVec3, DVec3)> {
+    let mut pairs = Vec::new();
+    let generic = [dir(35.0, 20.0), dir(60.0, 200.0), dir(5.0, 95.0)];
+    for (label, grazing) in [
+        ("grazing exactly", 0.0),
+        ("grazing 1e-12", 1e-12_f64.to_degrees()),
+        ("grazing 1e-7", 1e-7_f64.to_degrees()),
+    ] {
+        for azimuth in [0.0, 45.0, 90.0, 180.0, 270.0] {
+            let w = dir(grazing, azimuth);
+            for g in generic {
+                pairs.push((format!("{label} wi az {azimuth}"), w, g));
+                pairs.push((format!("{label} wo az {azimuth}"), g, w));
+            }
+            pairs.push((format!("{label} both az {azimuth}"), w, w));
+            pairs.push((
+                format!("{label} opposite az {azimuth}"),
+                w,
+                dir(grazing, azimuth + 180.0),
+            ));
+        }
+    }
+    for (j, thread) in fabric.threads().into_iter().enumerate() {
+        let ends = [thread.offsets_deg[0], *thread.offsets_deg.last().unwrap()];
+        for alpha in ends.into_iter().chain(thread.offsets_deg.iter().copied()) {
+            for sign in [1.0, -1.0] {
+                let t = sign * tangent(j, alpha);
+                // Keep the direction in the upper hemisphere; a horizontal t is lifted by 1e-9.
+                let w = if t.z > 0.0 {
+                    t
+                } else {
+                    DVec3::new(t.x, t.y, t.z.abs().max(1e-9)).normalize()
+                };
+                for g in generic
+                    .iter()
+                    .copied()
+                    .chain([w, DVec3::new(-w.x, -w.y, w.z)])
+                {
+                    pairs.push((format!("thread {} t({alpha}) wi", j + 1), w, g));
+                    pairs.push((format!("thread {} t({alpha}) wo", j + 1), g, w));
+                }
+            }
+        }
+    }
+    for b in [DVec3::X, DVec3::Y, -DVec3::X, -DVec3::Y] {
+        for lift in [0.0, 1e-15, 1e-9] {
+            let w = (b + DVec3::Z * lift).normalize();
+            for g in generic {
+                pairs.push((format!("parallel to b {b} lift {lift}"), w, g));
+                pairs.push((format!("parallel to b {b} lift {lift} (wo)"), g, w));
+            }
+        }
+    }
+    for w in generic
+        .iter()
+        .copied()
+        .chain([DVec3::Z, dir(89.999, 0.0), dir(0.5, 30.0)])
+    {
+        pairs.push(("wi = wo".into(), w, w));
+        pairs.push(("wi mirror of wo".into(), DVec3::new(-w.x, -w.y, w.z), w));
+    }
+    pairs
+}
+
+/// The curated hard cases: every built-in and stressed fabric with its hard pairs.
+pub fn hard_cases() -> Vec<HardCase> {
+    builtin()
+        .into_iter()
+        .chain(stressed_fabrics())
+        .flat_map(|fabric| {
+            hard_pairs(&fabric)
+                .into_iter()
+                .map(move |(label, wi, wo)| HardCase {
+                    name: format!("{}: {label}", fabric.name),
+                    fabric: fabric.clone(),
+                    wi,
+                    wo,
+                })
+        })
+        .collect()
+}
+
+/// Upper-hemisphere directions on a grid dense in elevation near the horizon.
+pub fn hemisphere_sweep() -> Vec<DVec3> {
+    let elevations = [1e-6, 0.5, 2.0, 6.0, 15.0, 30.0, 50.0, 70.0, 89.9];
+    elevations
+        .iter()
+        .flat_map(|&e| {
+            (0..24).map(move |k| dir(e, 15.0 * k as f64 + 7.5 * (e > 45.0) as u8 as f64))
+        })
+        .collect()
+}
