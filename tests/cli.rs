@@ -1,0 +1,175 @@
+//! The command line as users script it: `clothbake fabrics` and `clothbake eval`.
+
+mod common;
+
+use clothbake::model::{Integration, Patch};
+use common::*;
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+fn clothbake(args: &[&str], stdin: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_clothbake"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn clothbake");
+    let mut input = child.stdin.take().unwrap();
+    let text = stdin.to_string();
+    let writer = std::thread::spawn(move || {
+        let _ = input.write_all(text.as_bytes());
+    });
+    let output = child.wait_with_output().unwrap();
+    writer.join().unwrap();
+    output
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn parse_f(line: &str) -> [f64; 3] {
+    let v: serde_json::Value = serde_json::from_str(line).unwrap();
+    let f = v["f"].as_array().unwrap();
+    [0, 1, 2].map(|i| f[i].as_f64().unwrap())
+}
+
+#[test]
+fn fabrics_lists_the_builtin_set() {
+    let out = clothbake(&["fabrics"], "");
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for fabric in builtin() {
+        assert!(text.contains(&fabric.name), "{text}");
+    }
+}
+
+#[test]
+fn eval_matches_the_library_and_normalises_directions() {
+    let input = "{\"wi\":[0,0,2],\"wo\":[0.3,0.2,0.9]}\n{\"wi\":[1e-3,-2e-3,4e-3],\"wo\":[-3,1,2]}\n{\"wi\":[1,0,-1],\"wo\":[0,0,1]}\r\n";
+    for (args, integration) in [
+        (vec!["eval", "--fabric", "silk_shot"], Integration::Direct),
+        (
+            vec!["eval", "--fabric", "silk_shot", "--samples", "8"],
+            Integration::Paper(8),
+        ),
+    ] {
+        let out = clothbake(&args, input);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let lines: Vec<&str> = std::str::from_utf8(&out.stdout).unwrap().lines().collect();
+        assert_eq!(lines.len(), 3);
+        let patch = Patch::new(&fabric("silk_shot"), integration);
+        let pairs = [
+            ([0., 0., 2.], [0.3, 0.2, 0.9]),
+            ([1e-3, -2e-3, 4e-3], [-3., 1., 2.]),
+            ([1., 0., -1.], [0., 0., 1.]),
+        ];
+        for (line, (wi, wo)) in lines.iter().zip(pairs) {
+            let expected = patch.eval(
+                glam::DVec3::from(wi).normalize(),
+                glam::DVec3::from(wo).normalize(),
+            );
+            let got = parse_f(line);
+            for c in 0..3 {
+                assert!(
+                    (got[c] - expected[c]).abs() <= 1e-15 * expected[c].abs(),
+                    "{line} vs {expected}"
+                );
+            }
+        }
+        assert_eq!(parse_f(lines[2]), [0.0; 3], "below the horizon");
+    }
+}
+
+#[test]
+fn bad_lines_stop_with_the_line_number_after_earlier_output() {
+    let good = "{\"wi\":[0,0,1],\"wo\":[0,0.5,1]}\n";
+    for (bad, expected) in [
+        ("{\"wi\":[0,0,0],\"wo\":[0,0,1]}", "wi is the zero vector"),
+        ("{\"wi\":[0,0,1],\"wo\":[0,0,1e999]}", "line 3"),
+        ("{\"wi\":[0,0,1]}", "missing field `wo`"),
+        ("{\"wi\":[0,0,1],\"wo\":[0,1]}", "line 3"),
+        ("not json", "line 3"),
+        ("", "line 3"),
+        (
+            "{\"wi\":[0,0,1],\"wo\":[0,0,1],\"extra\":1}",
+            "unknown field `extra`",
+        ),
+    ] {
+        let input = format!("{good}{good}{bad}\n{good}");
+        let out = clothbake(
+            &["eval", "--fabric", "linen_plain", "--samples", "4"],
+            &input,
+        );
+        assert!(!out.status.success(), "{bad:?} accepted");
+        let message = stderr(&out);
+        assert!(
+            message.contains("input line 3") && message.contains(expected),
+            "{bad:?}: {message}"
+        );
+        assert_eq!(
+            String::from_utf8(out.stdout).unwrap().lines().count(),
+            2,
+            "{bad:?}: earlier lines lost"
+        );
+    }
+}
+
+#[test]
+fn bad_arguments_and_fabric_files_exit_non_zero() {
+    let out = clothbake(&["eval", "--fabric", "tweed"], "");
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("no fabric named 'tweed'") && stderr(&out).contains("velvet"));
+    let out = clothbake(&["eval", "--fabric", "velvet", "--samples", "0"], "");
+    assert!(!out.status.success());
+    let dir = std::env::temp_dir().join(format!("clothbake-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.toml");
+    let text = clothbake::fabric_file::BUILTIN_FABRICS_TOML.replacen("kd = 0.3", "kd = 3.0", 1);
+    std::fs::write(&path, text).unwrap();
+    for args in [vec!["fabrics"], vec!["eval", "--fabric", "linen_plain"]] {
+        let mut args = args.clone();
+        args.extend(["--fabrics", path.to_str().unwrap()]);
+        let out = clothbake(&args, "");
+        assert!(!out.status.success());
+        assert!(
+            stderr(&out).contains("fabric 'linen_plain', thread 1, field 'kd'"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    let out = clothbake(
+        &[
+            "fabrics",
+            "--fabrics",
+            dir.join("none.toml").to_str().unwrap(),
+        ],
+        "",
+    );
+    assert!(!out.status.success() && stderr(&out).contains("cannot read fabric file"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn eval_streams_many_lines_in_order() {
+    // 200,000 lines (40 chunks) through paper mode N = 1; the output keeps input order.
+    let count = 200_000;
+    let mut input = String::with_capacity(count * 48);
+    for i in 0..count {
+        let z = 0.05 + 0.9 * (i as f64 / count as f64);
+        input.push_str(&format!("{{\"wi\":[0.1,0.2,{z}],\"wo\":[-0.2,0.1,0.7]}}\n"));
+    }
+    let out = clothbake(&["eval", "--fabric", "velvet", "--samples", "1"], &input);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), count);
+    let patch = Patch::new(&fabric("velvet"), Integration::Paper(1));
+    for i in [0, 1, 4095, 4096, 77_777, count - 1] {
+        let z = 0.05 + 0.9 * (i as f64 / count as f64);
+        let unit = |v| clothbake::eval_stream::unit_direction(v, "w").unwrap();
+        let expected = patch.eval(unit([0.1, 0.2, z]), unit([-0.2, 0.1, 0.7]));
+        assert_eq!(parse_f(lines[i]), expected.to_array(), "line {}", i + 1);
+    }
+}
