@@ -2,11 +2,19 @@
 //! baked into lookup tables for real-time shading.
 //!
 //! - [`model`]: the physics of MODEL.md, pure maths.
+//! - [`table`]: table layouts and the lookup that GPU shaders mirror.
+//! - [`bake`]: integrates the model into a table (rayon).
+//! - [`table_file`]: tables as EXR files, written atomically, read as untrusted input.
+//! - [`accuracy`]: a table's error against the direct evaluation.
 //! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
 //! - [`direction_sets`]: the seeded direction pairs on which errors are measured.
 //! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
 
+pub mod accuracy;
+pub mod bake;
 pub mod direction_sets;
 pub mod eval_stream;
 pub mod fabric_file;
 pub mod model;
+pub mod table;
+pub mod table_file;

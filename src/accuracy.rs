@@ -1,0 +1,82 @@
+//! A table's error against the direct evaluation, on the seeded direction sets of
+//! [`crate::direction_sets`].
+
+use crate::direction_sets::{highlight_pairs, uniform_pairs};
+use crate::model::{Fabric, Integration, Patch};
+use crate::table::Table;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// Seeds of the validation sets; fixed so every `check` measures the same pairs.
+pub const UNIFORM_SEED: u64 = 0x5eed_0001;
+pub const HIGHLIGHT_SEED: u64 = 0x5eed_0002;
+
+/// Errors of a table on one set of pairs.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SetError {
+    /// `sqrt(Σ|F_table − F|² / Σ|F|²)` over all RGB components.
+    pub relative_rms: f64,
+    /// Largest `|F_table − F|` over components and pairs.
+    pub max_abs: f64,
+    /// The value of F (largest component) at that pair.
+    pub max_abs_at_value: f64,
+}
+
+/// A table's errors on uniform pairs, highlight pairs, and uniform pairs with both
+/// directions at least 15° above the horizon.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct TableError {
+    pub uniform: SetError,
+    pub highlight: SetError,
+    pub uniform_above_15deg: SetError,
+}
+
+fn set_error(values: &[(DVec3, DVec3)]) -> SetError {
+    let mut err = 0.0;
+    let mut norm = 0.0;
+    let mut max_abs = 0.0;
+    let mut max_abs_at_value = 0.0;
+    for &(table, truth) in values {
+        err += (table - truth).length_squared();
+        norm += truth.length_squared();
+        let abs = (table - truth).abs().max_element();
+        if abs > max_abs {
+            max_abs = abs;
+            max_abs_at_value = truth.max_element();
+        }
+    }
+    SetError {
+        relative_rms: (err / norm).sqrt(),
+        max_abs,
+        max_abs_at_value,
+    }
+}
+
+/// Measures `table` against the direct evaluation of `fabric` on `count` uniform and
+/// `count` highlight pairs.
+pub fn measure(table: &Table, fabric: &Fabric, count: usize) -> TableError {
+    let patch = Patch::new(fabric, Integration::Direct);
+    // (wi, wo, table value, direct value) per pair.
+    let compare = |pairs: Vec<(DVec3, DVec3)>| -> Vec<(DVec3, DVec3, DVec3, DVec3)> {
+        pairs
+            .into_par_iter()
+            .map(|(wi, wo)| (wi, wo, table.lookup(wi, wo), patch.eval(wi, wo)))
+            .collect()
+    };
+    let uniform = compare(uniform_pairs(count, UNIFORM_SEED));
+    let highlight = compare(highlight_pairs(fabric, count, HIGHLIGHT_SEED));
+    let above = 15f64.to_radians().sin();
+    let values = |set: &[(DVec3, DVec3, DVec3, DVec3)],
+                  keep: &dyn Fn(DVec3, DVec3) -> bool|
+     -> Vec<(DVec3, DVec3)> {
+        set.iter()
+            .filter(|s| keep(s.0, s.1))
+            .map(|s| (s.2, s.3))
+            .collect()
+    };
+    TableError {
+        uniform: set_error(&values(&uniform, &|_, _| true)),
+        highlight: set_error(&values(&highlight, &|_, _| true)),
+        uniform_above_15deg: set_error(&values(&uniform, &|wi, wo| wi.z >= above && wo.z >= above)),
+    }
+}
