@@ -4,7 +4,7 @@
 //! the same pairs.
 
 use crate::model::Fabric;
-use crate::model::curve::{Integration, curve_nodes};
+use crate::model::curve::{Integration, curve_pieces};
 use glam::DVec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
@@ -34,7 +34,7 @@ pub fn uniform_pairs(count: usize, seed: u64) -> Vec<(DVec3, DVec3)> {
 pub fn highlight_pairs(fabric: &Fabric, count: usize, seed: u64) -> Vec<(DVec3, DVec3)> {
     let mut rng = Pcg64::seed_from_u64(seed);
     let threads = fabric.threads();
-    let nodes = threads.map(|t| curve_nodes(t, &fabric.options, Integration::Direct));
+    let pieces = threads.map(|t| curve_pieces(t, &fabric.options, Integration::Direct));
     let total_coverage = threads[0].coverage + threads[1].coverage;
     let mut pairs = Vec::with_capacity(count);
     while pairs.len() < count {
@@ -51,14 +51,14 @@ pub fn highlight_pairs(fabric: &Fabric, count: usize, seed: u64) -> Vec<(DVec3, 
             (DVec3::Y, DVec3::X)
         };
         let mut pick = rng.random::<f64>();
-        let alpha = nodes[j]
+        let piece = pieces[j]
             .iter()
-            .find(|n| {
-                pick -= n.weight;
+            .find(|p| {
+                pick -= p.weight;
                 pick < 0.0
             })
-            .or(nodes[j].last())
-            .map_or(0.0, |n| n.alpha);
+            .or(pieces[j].last());
+        let alpha = piece.map_or(0.0, |p| p.start + (p.end - p.start) * rng.random::<f64>());
         let t = alpha.cos() * t0 + alpha.sin() * DVec3::Z;
         let n = -alpha.sin() * t0 + alpha.cos() * DVec3::Z;
         let wi = uniform_hemisphere(&mut rng);

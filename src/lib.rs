@@ -6,15 +6,19 @@
 //! - [`bake`]: integrates the model into a table (rayon).
 //! - [`table_file`]: tables as EXR files, written atomically, read as untrusted input.
 //! - [`accuracy`]: a table's error against the direct evaluation.
+//! - [`scene`], [`manifest`]: what a scene needs baked, and what was baked from what.
 //! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
 //! - [`direction_sets`]: the seeded direction pairs on which errors are measured.
 //! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
 
 pub mod accuracy;
 pub mod bake;
+pub mod bake_job;
 pub mod direction_sets;
 pub mod eval_stream;
 pub mod fabric_file;
+pub mod manifest;
 pub mod model;
+pub mod scene;
 pub mod table;
 pub mod table_file;

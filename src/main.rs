@@ -2,12 +2,14 @@
 
 use clap::{Parser, Subcommand};
 use clothbake::accuracy::measure;
-use clothbake::bake::bake;
+use clothbake::bake_job::{self, BakeJob, Outcome, ResolutionChoice};
 use clothbake::eval_stream::{EvalOutput, eval_stream};
 use clothbake::fabric_file::FabricSet;
+use clothbake::manifest;
 use clothbake::model::{Fabric, Integration, Patch};
+use clothbake::scene::Scene;
 use clothbake::table::Layout;
-use clothbake::table_file::{read_table, write_table};
+use clothbake::table_file::read_table;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -46,24 +48,34 @@ enum Command {
     },
     /// Bake fabrics into EXR tables (by default the built-in six into tables/).
     Bake {
-        /// Fabrics to bake (default: all in the fabric file).
-        #[arg(long, num_args = 1..)]
+        /// Fabrics to bake (default: every fabric in the fabric file).
+        #[arg(long, num_args = 1.., conflicts_with = "scene")]
         fabric: Vec<String>,
+        /// Scene file (TOML): bake only the fabrics it names, within its budget.
+        #[arg(long)]
+        scene: Option<PathBuf>,
         /// Fabric file (TOML) to use instead of the built-in fabrics.
         #[arg(long)]
         fabrics: Option<PathBuf>,
-        /// Table layout.
-        #[arg(long, default_value = "grid4d", value_parser = parse_layout)]
-        layout: Layout,
+        /// Table layout (default: the scene's, else grid4d).
+        #[arg(long, value_parser = parse_layout)]
+        layout: Option<Layout>,
         /// Layout resolution (default: the layout's own).
-        #[arg(long)]
+        #[arg(long, conflicts_with = "max_error")]
         resolution: Option<u32>,
+        /// Choose the smallest resolution whose relative RMS error (uniform and highlight
+        /// pairs, against direct evaluation) is at most this, and report it.
+        #[arg(long)]
+        max_error: Option<f64>,
         /// Output directory.
         #[arg(long, default_value = "tables")]
         out: PathBuf,
         /// Worker threads (default: all cores).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
         threads: Option<u32>,
+        /// Bake even tables the manifest shows are up to date.
+        #[arg(long)]
+        force: bool,
     },
     /// Measure a table's error against the direct evaluation of the fabric it records.
     Check {
@@ -124,53 +136,116 @@ fn run(cli: Cli) -> Result<(), String> {
         }
         Command::Bake {
             fabric,
+            scene,
             fabrics,
             layout,
             resolution,
+            max_error,
             out,
             threads,
+            force,
         } => {
-            let set = FabricSet::load_or_builtin(fabrics.as_deref()).map_err(|e| e.to_string())?;
-            let selected: Vec<&Fabric> = if fabric.is_empty() {
-                set.fabrics().iter().collect()
+            let scene = scene
+                .map(|path| Scene::load(&path))
+                .transpose()
+                .map_err(|e| e.to_string())?;
+            let fabric_file =
+                fabrics.or_else(|| scene.as_ref().and_then(|s| s.fabric_file.clone()));
+            let set =
+                FabricSet::load_or_builtin(fabric_file.as_deref()).map_err(|e| e.to_string())?;
+            let names = scene.as_ref().map_or(fabric, |s| s.fabrics.clone());
+            let selected: Vec<Fabric> = if names.is_empty() {
+                set.fabrics().to_vec()
             } else {
-                fabric
+                names
                     .iter()
-                    .map(|name| set.require(name))
+                    .map(|name| set.require(name).cloned())
                     .collect::<Result<_, _>>()?
             };
-            let resolution = resolution.unwrap_or(layout.default_resolution());
+            let layout = layout.unwrap_or_else(|| {
+                scene
+                    .as_ref()
+                    .map_or(Layout::Grid4d, |s| s.layout_or(Layout::Grid4d))
+            });
+            let budget = scene.as_ref().map(|s| s.budget).unwrap_or_default();
+            let choice = match (
+                resolution,
+                max_error.or(budget.max_error),
+                budget.max_bytes_per_fabric,
+            ) {
+                (Some(r), _, _) => ResolutionChoice::Fixed(r),
+                (None, Some(e), _) if e.is_finite() && e > 0.0 => ResolutionChoice::MaxError(e),
+                (None, Some(e), _) => {
+                    return Err(format!("--max-error must be a positive number, got {e}"));
+                }
+                (None, None, Some(bytes)) => ResolutionChoice::MaxBytes(bytes),
+                (None, None, None) => ResolutionChoice::Fixed(layout.default_resolution()),
+            };
+            let job = BakeJob {
+                fabrics: selected,
+                layout,
+                resolution: choice,
+                out,
+                force,
+            };
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads.unwrap_or(0) as usize)
                 .build()
                 .map_err(|e| e.to_string())?;
-            std::fs::create_dir_all(&out)
-                .map_err(|e| format!("cannot create {}: {e}", out.display()))?;
-            for fabric in selected {
-                let started = std::time::Instant::now();
-                let (_, rows) = layout.image_size(resolution);
-                let progress = progress_bar(rows as u64, &fabric.name);
-                let table = pool
-                    .install(|| bake(fabric, layout, resolution, &|| progress.inc(1)))
-                    .map_err(|e| e.to_string())?;
-                progress.finish_and_clear();
-                let seconds = started.elapsed().as_secs_f64();
-                let path = out.join(format!("{}.exr", fabric.name));
-                write_table(&path, &table, fabric).map_err(|e| e.to_string())?;
-                println!(
-                    "{}: {layout} at resolution {resolution}, {} KiB, baked in {seconds:.1} s",
+            let progress = |name: &str, resolution: u32, rows: u64| -> Box<dyn Fn() + Sync> {
+                let bar = progress_bar(rows, &format!("{name} @ {resolution}"));
+                Box::new(move || bar.inc(1))
+            };
+            let mut report = |fabric: &Fabric, outcome: &Outcome| match outcome {
+                Outcome::UpToDate { path, entry } => println!(
+                    "{}: up to date ({} at resolution {}), not baked again",
                     path.display(),
-                    table.byte_size() / 1024
-                );
-            }
-            Ok(())
+                    entry.layout,
+                    entry.resolution
+                ),
+                Outcome::Baked {
+                    path,
+                    entry,
+                    bytes,
+                    tried,
+                } => {
+                    for (r, e) in tried {
+                        println!(
+                            "{}: {layout} at resolution {r}: relative RMS {:.2}% uniform, {:.2}% highlight",
+                            fabric.name,
+                            100.0 * e.uniform.relative_rms,
+                            100.0 * e.highlight.relative_rms
+                        );
+                    }
+                    println!(
+                        "{}: {} at resolution {}{}, {} KiB, baked in {:.1} s on {} threads",
+                        path.display(),
+                        entry.layout,
+                        entry.resolution,
+                        if tried.is_empty() {
+                            ""
+                        } else {
+                            " (chosen for the error budget)"
+                        },
+                        bytes / 1024,
+                        entry.bake_seconds,
+                        entry.threads
+                    );
+                }
+            };
+            pool.install(|| bake_job::run(&job, &progress, &mut report))
+                .map_err(|e| e.to_string())
         }
         Command::Check { table, pairs } => {
             let file = read_table(&table).map_err(|e| e.to_string())?;
             let error = measure(&file.table, &file.fabric, pairs as usize);
             let t = &file.table;
+            let baked = manifest::entry_for(&table, &file.hash).map_or_else(
+                || "bake time not recorded (no matching manifest entry)".to_string(),
+                |e| format!("baked in {:.1} s on {} threads", e.bake_seconds, e.threads),
+            );
             println!(
-                "{}: fabric {}, {} at resolution {}, {} KiB of f16 texels, clothbake {}",
+                "{}: fabric {}, {} at resolution {}, {} KiB of f16 texels, clothbake {}, {baked}",
                 table.display(),
                 file.fabric.name,
                 t.layout,

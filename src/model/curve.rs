@@ -10,10 +10,11 @@ use super::fabric::{ModelOptions, TangentSampling, Thread};
 /// Finest α spacing, in degrees, of the direct rule. The integrand's narrowest feature in α
 /// is the surface lobe: |dθh/dα| ≤ 1 (it is the mean of cos φi and cos φo), so a lobe of
 /// standard deviation σ in θh is at least σ wide in α, and σ/16 spacing resolves it to far
-/// below 1e-6. What remains are the O(h²) errors at the kinks of the reweighted min() terms:
-/// measured against an independent rule (tests/direct_convergence.rs), the largest relative
-/// difference on the built-in fabrics is 7e-5 at 0.1°, 1.6e-5 at 0.05° (this value) and
-/// 3e-6 at 0.025°, so 0.05° keeps a 6× margin under the 1e-4 that MODEL.md asks for.
+/// below 1e-6. What remains are the O(h²) errors at the kinks of the reweighted min() terms
+/// (the kinks of max(cos, 0) are removed by clipping, see `ThreadModel::means`). Measured
+/// against an independent rule (tests/direct_convergence.rs), the largest relative
+/// difference on the built-in fabrics is 2.9e-5 at 0.1° and 7.5e-6 at 0.05° (this value),
+/// a 13× margin under the 1e-4 that MODEL.md asks for.
 pub const DIRECT_MAX_SPACING_DEG: f64 = 0.05;
 /// Samples per standard deviation of the narrowest lobe in the direct rule.
 pub const DIRECT_SAMPLES_PER_SIGMA: f64 = 16.0;
@@ -27,6 +28,30 @@ pub const DIRECT_MAX_SAMPLES: usize = 1 << 19;
 pub struct CurveNode {
     pub alpha: f64,
     pub weight: f64,
+}
+
+/// A piece of the quadrature: either a single node (`start == end`, `count == 1`), or an α
+/// interval holding `weight` of the curve uniformly, integrated by `count` midpoints. The
+/// evaluation may narrow an interval to where the integrand is non-zero before placing
+/// its midpoints (see `ThreadModel::means`), so intervals are kept whole here.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurvePiece {
+    /// Interval ends in radians, `start ≤ end`.
+    pub start: f64,
+    pub end: f64,
+    pub weight: f64,
+    pub count: usize,
+}
+
+impl CurvePiece {
+    /// The piece's midpoint nodes over its whole interval.
+    pub fn nodes(&self) -> impl Iterator<Item = CurveNode> + '_ {
+        let n = self.count.max(1);
+        (0..n).map(move |i| CurveNode {
+            alpha: self.start + (self.end - self.start) * (i as f64 + 0.5) / n as f64,
+            weight: self.weight / n as f64,
+        })
+    }
 }
 
 /// How the curve mean is computed.
@@ -52,32 +77,52 @@ fn segment_shares(thread: &Thread) -> Vec<f64> {
     }
 }
 
-/// Quadrature nodes for the mean over `thread`'s curve. The direct rule's spacing follows
-/// the standard deviation of the thread's narrowest lobe. Equal consecutive α are merged,
-/// so a constant segment costs one node.
+/// Quadrature nodes for the mean over `thread`'s curve: the nodes of [`curve_pieces`].
 pub fn curve_nodes(
     thread: &Thread,
     options: &ModelOptions,
     integration: Integration,
 ) -> Vec<CurveNode> {
+    curve_pieces(thread, options, integration)
+        .iter()
+        .flat_map(|p| p.nodes().collect::<Vec<_>>())
+        .collect()
+}
+
+/// The quadrature for the mean over `thread`'s curve. The direct rule gives one interval per
+/// segment, its midpoint count set by the thread's narrowest lobe; paper mode and the
+/// control-point option give single nodes. Equal consecutive nodes are merged, so a
+/// constant segment costs one node.
+pub fn curve_pieces(
+    thread: &Thread,
+    options: &ModelOptions,
+    integration: Integration,
+) -> Vec<CurvePiece> {
     let sigma_min_deg = options.lobe_sigma_deg(thread.gamma_s_deg.min(thread.gamma_v_deg));
     let offsets = &thread.offsets_deg;
-    let mut nodes: Vec<CurveNode> = Vec::new();
-    let mut push = |alpha_deg: f64, weight: f64| {
+    let mut nodes: Vec<CurvePiece> = Vec::new();
+    let push = |nodes: &mut Vec<CurvePiece>, alpha_deg: f64, weight: f64| {
         let alpha = alpha_deg.to_radians();
         match nodes.last_mut() {
-            Some(last) if last.alpha == alpha => last.weight += weight,
-            _ => nodes.push(CurveNode { alpha, weight }),
+            Some(last) if last.count == 1 && last.start == alpha && last.end == alpha => {
+                last.weight += weight
+            }
+            _ => nodes.push(CurvePiece {
+                start: alpha,
+                end: alpha,
+                weight,
+                count: 1,
+            }),
         }
     };
     if offsets.len() == 1 {
-        push(offsets[0], 1.0);
+        push(&mut nodes, offsets[0], 1.0);
         return nodes;
     }
     if options.tangent_sampling == TangentSampling::ControlPoints {
         let w = 1.0 / offsets.len() as f64;
         for &o in offsets {
-            push(o, w);
+            push(&mut nodes, o, w);
         }
         return nodes;
     }
@@ -93,11 +138,18 @@ pub fn curve_nodes(
                     continue;
                 }
                 let (a, b) = (offsets[k], offsets[k + 1]);
-                let n = (((b - a).abs() / spacing).ceil() as usize).max(1);
-                for i in 0..n {
-                    let t = (i as f64 + 0.5) / n as f64;
-                    push(a + (b - a) * t, share / n as f64);
+                if a == b {
+                    push(&mut nodes, a, share);
+                    continue;
                 }
+                let count = (((b - a).abs() / spacing).ceil() as usize).max(1);
+                let (start, end) = (a.min(b).to_radians(), a.max(b).to_radians());
+                nodes.push(CurvePiece {
+                    start,
+                    end,
+                    weight: share,
+                    count,
+                });
             }
         }
         Integration::Paper(n) => {
@@ -118,7 +170,7 @@ pub fn curve_nodes(
                     0.5
                 };
                 let (a, b) = (offsets[segment], offsets[segment + 1]);
-                push(a + (b - a) * t, 1.0 / n as f64);
+                push(&mut nodes, a + (b - a) * t, 1.0 / n as f64);
             }
         }
     }

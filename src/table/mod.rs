@@ -64,6 +64,19 @@ impl Layout {
         }
     }
 
+    /// The resolutions `--max-error` and memory budgets choose among, ascending.
+    pub fn resolution_ladder(self) -> Vec<u32> {
+        match self {
+            Layout::Grid4d => vec![8, 12, 16, 24, 32, 48, 64],
+        }
+    }
+
+    /// Bytes of f16 texel data of a table at `resolution`.
+    pub fn byte_size(self, resolution: u32) -> usize {
+        let (width, height) = self.image_size(resolution);
+        width * height * CHANNELS.len() * 2
+    }
+
     /// Width and height of the stored image at `resolution`.
     pub fn image_size(self, resolution: u32) -> (usize, usize) {
         match self {
@@ -161,7 +174,7 @@ impl Table {
 
     /// Bytes of texel data as stored (f16 channels).
     pub fn byte_size(&self) -> usize {
-        self.texels.len() * CHANNELS.len() * 2
+        self.layout.byte_size(self.resolution)
     }
 
     /// The interpolated terms (reflection, transmission1, transmission2) for unit `wi`,

@@ -1,0 +1,202 @@
+//! A bake job as the `bake` command runs it: for each fabric, choose the resolution (fixed,
+//! smallest meeting an error budget, or largest within a memory budget), skip tables that
+//! the manifest shows are up to date, bake, write atomically, record in the manifest.
+
+use crate::accuracy::{TableError, measure};
+use crate::bake::{BakeError, bake};
+use crate::manifest::{Entry, Manifest};
+use crate::model::Fabric;
+use crate::table::{Layout, Table};
+use crate::table_file::{TableFileError, expected_hash, read_table, write_table};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Direction pairs per set used to choose a resolution for an error budget: enough for the
+/// relative RMS to be stable to about ±5% of its value (the estimate's spread between seeds,
+/// measured on the built-in fabrics), and cheap next to the bake.
+pub const BUDGET_VALIDATION_PAIRS: usize = 1000;
+
+/// How to choose each table's resolution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ResolutionChoice {
+    Fixed(u32),
+    /// The smallest resolution of the layout's ladder whose relative RMS error, on uniform
+    /// and on highlight pairs, is at most this.
+    MaxError(f64),
+    /// The largest resolution of the ladder whose texels fit in this many bytes.
+    MaxBytes(u64),
+}
+
+/// One bake job.
+#[derive(Clone, Debug)]
+pub struct BakeJob {
+    pub fabrics: Vec<Fabric>,
+    pub layout: Layout,
+    pub resolution: ResolutionChoice,
+    pub out: PathBuf,
+    /// Bake even when the manifest shows the table is up to date.
+    pub force: bool,
+}
+
+/// What happened to one fabric.
+#[derive(Clone, Debug)]
+pub enum Outcome {
+    UpToDate {
+        path: PathBuf,
+        entry: Entry,
+    },
+    Baked {
+        path: PathBuf,
+        entry: Entry,
+        bytes: usize,
+        tried: Vec<(u32, TableError)>,
+    },
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum BakeJobError {
+    #[error(transparent)]
+    Bake(#[from] BakeError),
+    #[error(transparent)]
+    File(#[from] TableFileError),
+    #[error("cannot write to {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error(
+        "fabric '{fabric}': no {layout} resolution up to {largest} meets a relative RMS error of {target} (it reaches {reached:.4})"
+    )]
+    BudgetUnreachable {
+        fabric: String,
+        layout: Layout,
+        largest: u32,
+        target: f64,
+        reached: f64,
+    },
+    #[error("no {layout} resolution fits {bytes} bytes per fabric (the smallest needs {smallest})")]
+    BudgetTooSmall {
+        layout: Layout,
+        bytes: u64,
+        smallest: usize,
+    },
+}
+
+fn worst(error: &TableError) -> f64 {
+    error.uniform.relative_rms.max(error.highlight.relative_rms)
+}
+
+/// The manifest entry for `path` if the table there is exactly what this job would bake.
+fn up_to_date(
+    manifest: &Manifest,
+    path: &Path,
+    fabric: &Fabric,
+    layout: Layout,
+    choice: ResolutionChoice,
+) -> Option<Entry> {
+    let file_name = path.file_name()?.to_string_lossy().into_owned();
+    let entry = manifest.tables.get(&file_name)?;
+    let resolution_ok = match choice {
+        ResolutionChoice::Fixed(r) => entry.resolution == r,
+        ResolutionChoice::MaxError(e) => entry.error.is_some_and(|(u, h)| u.max(h) <= e),
+        ResolutionChoice::MaxBytes(b) => layout.byte_size(entry.resolution) as u64 <= b,
+    };
+    let hash = expected_hash(fabric, layout, entry.resolution);
+    let file_ok = read_table(path).is_ok_and(|f| f.hash == hash);
+    (resolution_ok && entry.hash == hash && entry.layout == layout.name() && file_ok)
+        .then(|| entry.clone())
+}
+
+/// Runs `job`; `progress(fabric, resolution, rows)` returns the per-row callback of one bake.
+pub fn run(
+    job: &BakeJob,
+    progress: &dyn Fn(&str, u32, u64) -> Box<dyn Fn() + Sync>,
+    on_outcome: &mut dyn FnMut(&Fabric, &Outcome),
+) -> Result<(), BakeJobError> {
+    std::fs::create_dir_all(&job.out).map_err(|source| BakeJobError::Io {
+        path: job.out.clone(),
+        source,
+    })?;
+    let mut manifest = Manifest::load(&job.out);
+    let layout = job.layout;
+    for fabric in &job.fabrics {
+        let path = job.out.join(format!("{}.exr", fabric.name));
+        if !job.force {
+            if let Some(entry) = up_to_date(&manifest, &path, fabric, layout, job.resolution) {
+                on_outcome(fabric, &Outcome::UpToDate { path, entry });
+                continue;
+            }
+        }
+        let started = Instant::now();
+        let bake_at = |resolution: u32| -> Result<Table, BakeError> {
+            let (_, rows) = layout.image_size(resolution);
+            let on_row = progress(&fabric.name, resolution, rows as u64);
+            bake(fabric, layout, resolution, &*on_row)
+        };
+        let mut tried = Vec::new();
+        let (table, error) = match job.resolution {
+            ResolutionChoice::Fixed(r) => (bake_at(r)?, None),
+            ResolutionChoice::MaxBytes(bytes) => {
+                let fitting = layout
+                    .resolution_ladder()
+                    .into_iter()
+                    .filter(|&r| layout.byte_size(r) as u64 <= bytes)
+                    .last();
+                let r = fitting.ok_or(BakeJobError::BudgetTooSmall {
+                    layout,
+                    bytes,
+                    smallest: layout.byte_size(layout.resolution_ladder()[0]),
+                })?;
+                (bake_at(r)?, None)
+            }
+            ResolutionChoice::MaxError(target) => {
+                let mut chosen = None;
+                for r in layout.resolution_ladder() {
+                    let table = bake_at(r)?;
+                    let error = measure(&table, fabric, BUDGET_VALIDATION_PAIRS);
+                    tried.push((r, error));
+                    if worst(&error) <= target {
+                        chosen = Some((table, Some(error)));
+                        break;
+                    }
+                }
+                chosen.ok_or_else(|| BakeJobError::BudgetUnreachable {
+                    fabric: fabric.name.clone(),
+                    layout,
+                    largest: *layout.resolution_ladder().last().unwrap_or(&0),
+                    target,
+                    reached: tried
+                        .iter()
+                        .map(|(_, e)| worst(e))
+                        .fold(f64::INFINITY, f64::min),
+                })?
+            }
+        };
+        let hash = write_table(&path, &table, fabric)?;
+        let entry = Entry {
+            hash,
+            layout: layout.name().to_string(),
+            resolution: table.resolution,
+            bake_seconds: started.elapsed().as_secs_f64(),
+            threads: rayon::current_num_threads(),
+            error: error.map(|e| (e.uniform.relative_rms, e.highlight.relative_rms)),
+        };
+        manifest
+            .tables
+            .insert(format!("{}.exr", fabric.name), entry.clone());
+        manifest.save(&job.out).map_err(|source| BakeJobError::Io {
+            path: job.out.clone(),
+            source,
+        })?;
+        on_outcome(
+            fabric,
+            &Outcome::Baked {
+                path,
+                entry,
+                bytes: table.byte_size(),
+                tried,
+            },
+        );
+    }
+    Ok(())
+}
