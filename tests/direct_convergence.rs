@@ -34,3 +34,20 @@ fn direct_evaluation_is_converged_to_1e_4() {
         assert!(worst < 1e-4, "{}: {worst:e}", fabric.name);
     }
 }
+
+/// The baker's coarser rule stays within 1e-3 relative RMS of the direct evaluation, a
+/// small fraction of any table's interpolation error (percent level).
+#[test]
+fn baking_rule_is_within_1e_3_of_direct() {
+    for fabric in builtin() {
+        let direct = Patch::new(&fabric, Integration::Direct);
+        let baking = Patch::new(&fabric, Integration::Baking);
+        let mut pairs = uniform_pairs(200, 31);
+        pairs.extend(highlight_pairs(&fabric, 200, 32));
+        let (a, b): (Vec<_>, Vec<_>) = pairs.par_iter().map(|&(wi, wo)| (baking.eval(wi, wo), direct.eval(wi, wo))).unzip();
+        let rms = relative_rms(&a, &b);
+        let nodes: Vec<usize> = baking.threads().iter().map(|t| t.node_count()).collect();
+        println!("{}: baking rule ({nodes:?} nodes) vs direct: relative RMS {rms:.2e}", fabric.name);
+        assert!(rms < 1e-3, "{}: {rms:e}", fabric.name);
+    }
+}

@@ -12,14 +12,6 @@ use glam::DVec3;
 /// contributes 0 to s and to P, as MODEL.md prescribes.
 pub const DEGENERATE_PROJECTION: f64 = 1e-9;
 
-/// Fewest midpoints placed in a clipped interval of the direct rule. Where both directions
-/// barely face the tangent samples the clipped interval is a sliver a fraction of a degree
-/// wide, across which M·P rises from and falls back to 0; its proportional share of the
-/// segment's nodes can be 1 or 2. Measured on such a velvet pair (thread 2, ⟨P⟩ ≈ 3e-5)
-/// against 2^18 strata: 1 node at least gives 2.7e-3 relative error, 64 give 7e-5 and 128
-/// give 1.6e-5.
-pub const MIN_NODES_PER_INTERVAL: usize = 128;
-
 /// The curve means of one thread, split so that the RGB albedo factors out:
 /// `⟨s⟩ = reflection + A · transmission`, and `masking = ⟨P⟩`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -164,7 +156,7 @@ impl ThreadModel {
             }
             let length = piece.end - piece.start;
             let count = ((piece.count as f64 * (hi - lo) / length).ceil() as usize)
-                .max(MIN_NODES_PER_INTERVAL);
+                .max(piece.min_count);
             let step = (hi - lo) / count as f64;
             let weight = piece.weight * step / length;
             // Midpoints by rotation: (cos, sin) advance by the angle `step` each node.

@@ -1,0 +1,124 @@
+//! Table axes: how a texel index maps to a coordinate value and back, including warps that
+//! put texels where the function needs them.
+//!
+//! Texel convention: a clamped axis of N texels holds the function at `x_i = i/(N−1)`, both
+//! ends included (ends are evaluated at their limits); a GPU samples it at texture
+//! coordinate `(x·(N−1) + ½)/N` with clamp-to-edge. A periodic axis holds `x_i = i/N`
+//! (GPU: `(x·N + ½)/N`, repeat addressing). `x ∈ [0, 1]` is the warped coordinate of the
+//! value `v` (see [`Warp`]).
+
+/// The map between an axis value v and its unit coordinate x ∈ [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Warp {
+    /// `v = lo + (hi − lo)·x`.
+    Linear { lo: f64, hi: f64 },
+    /// Piecewise linear through four knots `(x_k, v_k)`, increasing, `x_0 = 0`, `x_3 = 1`.
+    Knots { xs: [f64; 4], vs: [f64; 4] },
+    /// `v = hi·sin(k(2x − 1))/sin k`, symmetric on [−hi, hi], denser towards ±hi as k grows
+    /// (k → 0 is linear).
+    SinEnds { hi: f64, k: f64 },
+}
+
+impl Warp {
+    pub fn value(&self, x: f64) -> f64 {
+        match *self {
+            Warp::Linear { lo, hi } => lo + (hi - lo) * x,
+            Warp::Knots { xs, vs } => {
+                let k = (0..2).find(|&k| x <= xs[k + 1]).unwrap_or(2);
+                vs[k] + (vs[k + 1] - vs[k]) * (x - xs[k]) / (xs[k + 1] - xs[k])
+            }
+            Warp::SinEnds { hi, k } => hi * (k * (2.0 * x - 1.0)).sin() / k.sin(),
+        }
+    }
+
+    pub fn unit(&self, v: f64) -> f64 {
+        match *self {
+            Warp::Linear { lo, hi } => (v - lo) / (hi - lo),
+            Warp::Knots { xs, vs } => {
+                let k = (0..2).find(|&k| v <= vs[k + 1]).unwrap_or(2);
+                xs[k] + (xs[k + 1] - xs[k]) * (v - vs[k]) / (vs[k + 1] - vs[k])
+            }
+            Warp::SinEnds { hi, k } => {
+                let s = (v / hi * k.sin()).clamp(-1.0, 1.0);
+                0.5 * (s.asin() / k + 1.0)
+            }
+        }
+    }
+}
+
+/// One table axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Axis {
+    pub texels: usize,
+    pub periodic: bool,
+    pub warp: Warp,
+}
+
+impl Axis {
+    pub fn clamped(texels: usize, warp: Warp) -> Self {
+        Self { texels, periodic: false, warp }
+    }
+
+    pub fn periodic(texels: usize, lo: f64, hi: f64) -> Self {
+        Self { texels, periodic: true, warp: Warp::Linear { lo, hi } }
+    }
+
+    /// The value texel `i` holds.
+    pub fn texel_value(&self, i: usize) -> f64 {
+        let x = if self.periodic {
+            i as f64 / self.texels as f64
+        } else {
+            i as f64 / (self.texels - 1) as f64
+        };
+        self.warp.value(x)
+    }
+
+    /// The two texels around value `v` and the weight of the second, as linear filtering
+    /// with this axis's addressing computes them.
+    #[inline]
+    pub fn locate(&self, v: f64) -> (usize, usize, f64) {
+        let x = self.warp.unit(v);
+        let n = self.texels;
+        if self.periodic {
+            let g = x * n as f64;
+            let f = g.floor();
+            let i0 = (f as i64).rem_euclid(n as i64) as usize;
+            (i0, (i0 + 1) % n, g - f)
+        } else {
+            let g = (x * (n - 1) as f64).clamp(0.0, (n - 1) as f64);
+            let i0 = (g.floor() as usize).min(n.saturating_sub(2));
+            (i0, (i0 + 1).min(n - 1), g - i0 as f64)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn warps_invert() {
+        let warps = [
+            Warp::Linear { lo: -1.0, hi: 2.0 },
+            Warp::Knots { xs: [0.0, 0.2, 0.9, 1.0], vs: [-1.5, -0.5, 0.3, 1.5] },
+            Warp::SinEnds { hi: 1.5, k: 1.4 },
+        ];
+        for w in warps {
+            for i in 0..=20 {
+                let x = i as f64 / 20.0;
+                assert!((w.unit(w.value(x)) - x).abs() < 1e-12, "{w:?} at {x}");
+            }
+        }
+    }
+
+    #[test]
+    fn locate_hits_texel_values() {
+        let axis = Axis::clamped(7, Warp::SinEnds { hi: 1.5, k: 1.4 });
+        for i in 0..7 {
+            let (i0, i1, f) = axis.locate(axis.texel_value(i));
+            assert!((i0 as f64 + f - i as f64).abs() < 1e-9 && i1 == (i0 + 1).min(6));
+        }
+        let ring = Axis::periodic(8, -4.0, 4.0);
+        assert_eq!(ring.locate(3.5), (7, 0, 0.5));
+    }
+}
