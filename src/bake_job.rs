@@ -3,7 +3,7 @@
 //! the manifest shows are up to date, bake, write atomically, record in the manifest.
 
 use crate::accuracy::{TableError, measure};
-use crate::bake::{BakeError, bake};
+use crate::bake::{BakeError, bake, bake_rows};
 use crate::manifest::{Entry, Manifest};
 use crate::model::Fabric;
 use crate::table::{Layout, Table};
@@ -99,7 +99,7 @@ fn up_to_date(
     let resolution_ok = match choice {
         ResolutionChoice::Fixed(r) => entry.resolution == r,
         ResolutionChoice::MaxError(e) => entry.error.is_some_and(|(u, h)| u.max(h) <= e),
-        ResolutionChoice::MaxBytes(b) => layout.byte_size(entry.resolution) as u64 <= b,
+        ResolutionChoice::MaxBytes(b) => layout.byte_size(fabric, entry.resolution) as u64 <= b,
     };
     let hash = expected_hash(fabric, layout, entry.resolution);
     let file_ok = read_table(path).is_ok_and(|f| f.hash == hash);
@@ -107,10 +107,13 @@ fn up_to_date(
         .then(|| entry.clone())
 }
 
+/// Makes the per-row callback of one bake from (fabric name, resolution, rows).
+pub type ProgressFactory = dyn Fn(&str, u32, u64) -> Box<dyn Fn() + Sync>;
+
 /// Runs `job`; `progress(fabric, resolution, rows)` returns the per-row callback of one bake.
 pub fn run(
     job: &BakeJob,
-    progress: &dyn Fn(&str, u32, u64) -> Box<dyn Fn() + Sync>,
+    progress: &ProgressFactory,
     on_outcome: &mut dyn FnMut(&Fabric, &Outcome),
 ) -> Result<(), BakeJobError> {
     std::fs::create_dir_all(&job.out).map_err(|source| BakeJobError::Io {
@@ -129,8 +132,11 @@ pub fn run(
         }
         let started = Instant::now();
         let bake_at = |resolution: u32| -> Result<Table, BakeError> {
-            let (_, rows) = layout.image_size(resolution);
-            let on_row = progress(&fabric.name, resolution, rows as u64);
+            let on_row = progress(
+                &fabric.name,
+                resolution,
+                bake_rows(fabric, layout, resolution),
+            );
             bake(fabric, layout, resolution, &*on_row)
         };
         let mut tried = Vec::new();
@@ -140,12 +146,11 @@ pub fn run(
                 let fitting = layout
                     .resolution_ladder()
                     .into_iter()
-                    .filter(|&r| layout.byte_size(r) as u64 <= bytes)
-                    .last();
+                    .rfind(|&r| layout.byte_size(fabric, r) as u64 <= bytes);
                 let r = fitting.ok_or(BakeJobError::BudgetTooSmall {
                     layout,
                     bytes,
-                    smallest: layout.byte_size(layout.resolution_ladder()[0]),
+                    smallest: layout.byte_size(fabric, layout.resolution_ladder()[0]),
                 })?;
                 (bake_at(r)?, None)
             }
@@ -172,7 +177,7 @@ pub fn run(
                 })?
             }
         };
-        let hash = write_table(&path, &table, fabric)?;
+        let hash = write_table(&path, &table)?;
         let entry = Entry {
             hash,
             layout: layout.name().to_string(),

@@ -57,7 +57,7 @@ enum Command {
         /// Fabric file (TOML) to use instead of the built-in fabrics.
         #[arg(long)]
         fabrics: Option<PathBuf>,
-        /// Table layout (default: the scene's, else grid4d).
+        /// Table layout (default: the scene's, else thread_frame).
         #[arg(long, value_parser = parse_layout)]
         layout: Option<Layout>,
         /// Layout resolution (default: the layout's own).
@@ -165,7 +165,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let layout = layout.unwrap_or_else(|| {
                 scene
                     .as_ref()
-                    .map_or(Layout::Grid4d, |s| s.layout_or(Layout::Grid4d))
+                    .map_or(Layout::ThreadFrame, |s| s.layout_or(Layout::ThreadFrame))
             });
             let budget = scene.as_ref().map(|s| s.budget).unwrap_or_default();
             let choice = match (
@@ -238,7 +238,7 @@ fn run(cli: Cli) -> Result<(), String> {
         }
         Command::Check { table, pairs } => {
             let file = read_table(&table).map_err(|e| e.to_string())?;
-            let error = measure(&file.table, &file.fabric, pairs as usize);
+            let error = measure(&file.table, &file.table.fabric, pairs as usize);
             let t = &file.table;
             let baked = manifest::entry_for(&table, &file.hash).map_or_else(
                 || "bake time not recorded (no matching manifest entry)".to_string(),
@@ -247,7 +247,7 @@ fn run(cli: Cli) -> Result<(), String> {
             println!(
                 "{}: fabric {}, {} at resolution {}, {} KiB of f16 texels, clothbake {}, {baked}",
                 table.display(),
-                file.fabric.name,
+                file.table.fabric.name,
                 t.layout,
                 t.resolution,
                 t.byte_size() / 1024,

@@ -1,12 +1,14 @@
-//! Tables as OpenEXR files: one image of f16 channels `reflection`, `transmission1`,
-//! `transmission2` laid out as [`crate::table`] documents, plus one text attribute,
-//! `clothbake`, recording everything that made the table as a TOML document:
+//! Tables as OpenEXR files: one EXR layer (part) per plane of the layout, named as the plane,
+//! with the plane's f16 channels, laid out as [`crate::table`] documents; the first layer
+//! carries one text attribute, `clothbake`, recording everything that made the table as a
+//! TOML document:
 //!
 //! | key | content |
 //! |---|---|
 //! | `clothbake_version` | the clothbake version that baked it |
-//! | `layout` | layout name (`grid4d`) |
-//! | `resolution` | layout resolution N |
+//! | `layout` | layout name (`grid4d`, `thread_frame`) |
+//! | `resolution` | layout resolution |
+//! | `reflection_scale` | `thread_frame` only: `sqrt_masking` or `masking` |
 //! | `integration` | the integration rule of every texel |
 //! | `[[fabric]]` | the fabric, in the fabric-file schema (options included) |
 //! | `hash` | SHA-256 (hex) of this document's TOML without the `hash` line |
@@ -19,15 +21,29 @@
 //! Writing is atomic: a temporary file beside the target, synced, then renamed over it.
 
 use crate::model::Fabric;
-use crate::table::{CHANNELS, Layout, Table};
+use crate::table::{Layout, Plane, ReflectionScale, Table};
 use exr::prelude::*;
 use half::f16;
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
-/// Describes the direct evaluation every texel comes from.
-pub const INTEGRATION: &str =
-    "direct: per-segment midpoint rule, alpha spacing <= min(0.05 deg, sigma/16)";
+/// Describes how the texels of `layout` were integrated.
+pub fn integration(layout: Layout) -> &'static str {
+    match layout {
+        Layout::Grid4d => {
+            "direct: per-segment midpoint rule, alpha spacing <= min(0.05 deg, sigma/16)"
+        }
+        Layout::ThreadFrame => {
+            "baking: per-segment midpoint rule, alpha spacing <= min(2 deg, sigma/6); masking tables direct"
+        }
+    }
+}
+
+/// The name of the EXR text attribute holding the provenance.
+pub const ATTRIBUTE: &str = "clothbake";
+
+/// Largest table file read: the largest legitimate table uncompressed, plus headers.
+pub const MAX_TABLE_FILE_BYTES: u64 = 128 << 20;
 
 /// Why a table file was rejected or could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -50,13 +66,9 @@ pub enum TableFileError {
 #[derive(Clone, Debug)]
 pub struct TableFile {
     pub table: Table,
-    pub fabric: Fabric,
     pub version: String,
     pub hash: String,
 }
-
-/// The name of the EXR text attribute holding the provenance.
-pub const ATTRIBUTE: &str = "clothbake";
 
 /// What made a table, as stored in its `clothbake` attribute.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -67,28 +79,38 @@ struct Provenance {
     clothbake_version: String,
     layout: String,
     resolution: u32,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    reflection_scale: Option<ReflectionScale>,
     integration: String,
     fabric: Vec<Fabric>,
 }
 
 impl Provenance {
-    fn new(fabric: &Fabric, layout: Layout, resolution: u32) -> Self {
+    fn new(
+        fabric: &Fabric,
+        layout: Layout,
+        resolution: u32,
+        reflection_scale: Option<ReflectionScale>,
+    ) -> Self {
         let mut provenance = Self {
             hash: String::new(),
             clothbake_version: env!("CARGO_PKG_VERSION").to_string(),
             layout: layout.name().to_string(),
             resolution,
-            integration: INTEGRATION.to_string(),
+            reflection_scale,
+            integration: integration(layout).to_string(),
             fabric: vec![fabric.clone()],
         };
         provenance.hash = provenance.content_hash();
         provenance
     }
 
-    /// SHA-256 of the TOML of every field but `hash`.
+    /// SHA-256 of the TOML of every field but `hash` and `reflection_scale` (which the bake
+    /// chooses, so it cannot be known before baking).
     fn content_hash(&self) -> String {
         let unhashed = Self {
             hash: String::new(),
+            reflection_scale: None,
             ..self.clone()
         };
         let text = toml::to_string(&unhashed).expect("provenance serialises to TOML");
@@ -102,42 +124,63 @@ impl Provenance {
 /// The hash a table of `fabric` at `layout`/`resolution` baked by this version carries:
 /// what the bake manifest compares to skip unchanged fabrics.
 pub fn expected_hash(fabric: &Fabric, layout: Layout, resolution: u32) -> String {
-    Provenance::new(fabric, layout, resolution).hash
+    Provenance::new(fabric, layout, resolution, None).hash
 }
 
-/// Writes `table`, baked from `fabric`, to `path` atomically.
-pub fn write_table(
-    path: &Path,
-    table: &Table,
-    fabric: &Fabric,
-) -> std::result::Result<String, TableFileError> {
+/// Writes `table` to `path` atomically; returns its provenance hash.
+pub fn write_table(path: &Path, table: &Table) -> std::result::Result<String, TableFileError> {
     let io = |source| TableFileError::Io {
         path: path.to_path_buf(),
         source,
     };
-    let provenance = Provenance::new(fabric, table.layout, table.resolution);
+    let provenance = Provenance::new(
+        &table.fabric,
+        table.layout,
+        table.resolution,
+        table.reflection_scale,
+    );
     let provenance_toml = toml::to_string(&provenance).expect("provenance serialises to TOML");
-    let (width, height) = table.image_size();
-    let channels: Vec<AnyChannel<FlatSamples>> = CHANNELS
+    let layers: Vec<Layer<AnyChannels<FlatSamples>>> = table
+        .planes()
         .iter()
         .enumerate()
-        .map(|(c, name)| {
-            let samples = table.texels().iter().map(|t| f16::from_f32(t[c])).collect();
-            AnyChannel::new(*name, FlatSamples::F16(samples))
+        .map(|(index, plane)| {
+            let count = plane.spec.channels.len();
+            let channels: Vec<AnyChannel<FlatSamples>> = plane
+                .spec
+                .channels
+                .iter()
+                .enumerate()
+                .map(|(c, name)| {
+                    let samples = plane
+                        .data
+                        .iter()
+                        .skip(c)
+                        .step_by(count)
+                        .map(|&v| f16::from_f32(v))
+                        .collect();
+                    AnyChannel::new(*name, FlatSamples::F16(samples))
+                })
+                .collect();
+            let mut attributes = LayerAttributes::named(plane.spec.name.as_str());
+            if index == 0 {
+                attributes.other.insert(
+                    Text::from(ATTRIBUTE),
+                    AttributeValue::Text(Text::from(provenance_toml.as_str())),
+                );
+            }
+            Layer::new(
+                (plane.spec.width, plane.spec.height),
+                attributes,
+                Encoding::SMALL_LOSSLESS,
+                AnyChannels::sort(channels.into()),
+            )
         })
         .collect();
-    let mut layer_attributes = LayerAttributes::named("clothbake");
-    layer_attributes.other.insert(
-        Text::from(ATTRIBUTE),
-        AttributeValue::Text(Text::from(provenance_toml.as_str())),
+    let image = Image::from_layers(
+        ImageAttributes::new(IntegerBounds::from_dimensions((1, 1))),
+        layers,
     );
-    let layer = Layer::new(
-        (width, height),
-        layer_attributes,
-        Encoding::SMALL_LOSSLESS,
-        AnyChannels::sort(channels.into()),
-    );
-    let image = Image::from_layer(layer);
 
     let directory = path
         .parent()
@@ -194,31 +237,19 @@ pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError>
             source,
         })?
         .len();
-    // Largest legitimate table, uncompressed, plus headers.
-    let max_bytes = Layout::ALL
-        .iter()
-        .map(|l| {
-            let (w, h) = l.image_size(l.max_resolution());
-            (w * h * CHANNELS.len() * 2) as u64
-        })
-        .max()
-        .unwrap_or(0)
-        + (1 << 20);
-    if size > max_bytes {
+    if size > MAX_TABLE_FILE_BYTES {
         return Err(invalid(format!(
-            "is {size} bytes, larger than any table ({max_bytes})"
+            "is {size} bytes, larger than any table ({MAX_TABLE_FILE_BYTES})"
         )));
     }
 
-    // The header alone first: nothing sized by the file is allocated until it checks out.
+    // The headers alone first: nothing sized by the file is allocated until they check out.
     let meta = exr::meta::MetaData::read_from_file(path, false).map_err(exr_error)?;
-    let [header] = meta.headers.as_slice() else {
-        return Err(invalid(format!(
-            "has {} layers, expected 1",
-            meta.headers.len()
-        )));
-    };
-    let text = text_attribute(header, ATTRIBUTE)
+    let first = meta
+        .headers
+        .first()
+        .ok_or_else(|| invalid("has no layers".into()))?;
+    let text = text_attribute(first, ATTRIBUTE)
         .ok_or_else(|| invalid(format!("lacks the text attribute '{ATTRIBUTE}'")))?;
     let provenance: Provenance = toml::from_str(&text)
         .map_err(|e| invalid(format!("attribute '{ATTRIBUTE}' is not valid: {e}")))?;
@@ -245,64 +276,116 @@ pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError>
         )));
     };
     fabric.validate().map_err(|e| invalid(e.to_string()))?;
-    let (width, height) = layout.image_size(resolution);
-    let stored = (header.layer_size.x(), header.layer_size.y());
-    if stored != (width, height) || header.deep {
+    let specs = layout.plane_specs(fabric, resolution);
+    if meta.headers.len() != specs.len() {
         return Err(invalid(format!(
-            "image is {}x{}{}, but {layout} at resolution {resolution} needs {width}x{height}",
-            stored.0,
-            stored.1,
-            if header.deep { " (deep)" } else { "" }
+            "has {} layers, {layout} needs {}",
+            meta.headers.len(),
+            specs.len()
         )));
     }
-    let channels: Vec<(String, SampleType)> = header
-        .channels
-        .list
-        .iter()
-        .map(|c| (c.name.to_string(), c.sample_type))
-        .collect();
-    let expected: Vec<(String, SampleType)> = CHANNELS
-        .iter()
-        .map(|c| (c.to_string(), SampleType::F16))
-        .collect();
-    if channels != expected {
-        return Err(invalid(format!(
-            "channels are {channels:?}, expected {expected:?}"
-        )));
+    for (header, spec) in meta.headers.iter().zip(&specs) {
+        let name = header
+            .own_attributes
+            .layer_name
+            .as_ref()
+            .map(|n| n.to_string())
+            .unwrap_or_default();
+        let stored = (header.layer_size.x(), header.layer_size.y());
+        if name != spec.name || stored != (spec.width, spec.height) || header.deep {
+            return Err(invalid(format!(
+                "layer '{name}' is {}x{}{}, but {layout} at resolution {resolution} needs layer '{}' of {}x{}",
+                stored.0,
+                stored.1,
+                if header.deep { " (deep)" } else { "" },
+                spec.name,
+                spec.width,
+                spec.height
+            )));
+        }
+        let channels: Vec<(String, SampleType)> = header
+            .channels
+            .list
+            .iter()
+            .map(|c| (c.name.to_string(), c.sample_type))
+            .collect();
+        let expected: Vec<(String, SampleType)> = spec
+            .channels
+            .iter()
+            .map(|c| (c.to_string(), SampleType::F16))
+            .collect();
+        if channels != expected {
+            return Err(invalid(format!(
+                "layer '{name}' has channels {channels:?}, expected {expected:?}"
+            )));
+        }
     }
+
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
         .all_channels()
-        .first_valid_layer()
+        .all_layers()
         .all_attributes()
         .from_file(path)
         .map_err(exr_error)?;
-    let list = &image.layer_data.channel_data.list;
-    if list.len() != CHANNELS.len() || list.iter().any(|c| c.sample_data.len() != width * height) {
-        return Err(invalid("channel data does not match the header".into()));
-    }
-    let mut texels = vec![[0.0f32; 3]; width * height];
-    for (c, channel) in list.iter().enumerate() {
-        for (texel, value) in texels.iter_mut().zip(channel.sample_data.values_as_f32()) {
-            texel[c] = value;
+    let mut planes = Vec::with_capacity(specs.len());
+    for spec in specs {
+        let layer = image
+            .layer_data
+            .iter()
+            .find(|l| {
+                l.attributes
+                    .layer_name
+                    .as_ref()
+                    .is_some_and(|n| n.to_string() == spec.name)
+            })
+            .ok_or_else(|| invalid(format!("layer '{}' is missing", spec.name)))?;
+        let list = &layer.channel_data.list;
+        if list.len() != spec.channels.len()
+            || list
+                .iter()
+                .any(|c| c.sample_data.len() != spec.texel_count())
+        {
+            return Err(invalid(format!(
+                "layer '{}' data does not match its header",
+                spec.name
+            )));
         }
+        let count = spec.channels.len();
+        let mut data = vec![0.0f32; spec.texel_count() * count];
+        for (c, channel) in list.iter().enumerate() {
+            for (slot, value) in data
+                .iter_mut()
+                .skip(c)
+                .step_by(count)
+                .zip(channel.sample_data.values_as_f32())
+            {
+                *slot = value;
+            }
+        }
+        if let Some(i) = data.iter().position(|v| !v.is_finite() || *v < 0.0) {
+            let texel = i / count;
+            return Err(invalid(format!(
+                "layer '{}' texel ({}, {}) holds {:?}: tables hold finite, non-negative values",
+                spec.name,
+                texel % spec.width,
+                texel / spec.width,
+                &data[texel * count..texel * count + count]
+            )));
+        }
+        planes.push(Plane { spec, data });
     }
-    if let Some(i) = texels
-        .iter()
-        .position(|t| t.iter().any(|v| !v.is_finite() || *v < 0.0))
-    {
-        return Err(invalid(format!(
-            "texel ({}, {}) holds {:?}: tables hold finite, non-negative values",
-            i % width,
-            i / width,
-            texels[i]
-        )));
-    }
-    let albedo = fabric.threads().map(|t| t.albedo_rgb().map(|c| c as f32));
+    let table = Table::new(
+        layout,
+        resolution,
+        fabric,
+        provenance.reflection_scale,
+        planes,
+    )
+    .map_err(invalid)?;
     Ok(TableFile {
-        table: Table::new(layout, resolution, albedo, texels),
-        fabric: fabric.clone(),
+        table,
         version: provenance.clothbake_version.clone(),
         hash,
     })

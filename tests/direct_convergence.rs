@@ -44,10 +44,16 @@ fn baking_rule_is_within_1e_3_of_direct() {
         let baking = Patch::new(&fabric, Integration::Baking);
         let mut pairs = uniform_pairs(200, 31);
         pairs.extend(highlight_pairs(&fabric, 200, 32));
-        let (a, b): (Vec<_>, Vec<_>) = pairs.par_iter().map(|&(wi, wo)| (baking.eval(wi, wo), direct.eval(wi, wo))).unzip();
+        let (a, b): (Vec<_>, Vec<_>) = pairs
+            .par_iter()
+            .map(|&(wi, wo)| (baking.eval(wi, wo), direct.eval(wi, wo)))
+            .unzip();
         let rms = relative_rms(&a, &b);
         let nodes: Vec<usize> = baking.threads().iter().map(|t| t.node_count()).collect();
-        println!("{}: baking rule ({nodes:?} nodes) vs direct: relative RMS {rms:.2e}", fabric.name);
+        println!(
+            "{}: baking rule ({nodes:?} nodes) vs direct: relative RMS {rms:.2e}",
+            fabric.name
+        );
         assert!(rms < 1e-3, "{}: {rms:e}", fabric.name);
     }
 }

@@ -4,7 +4,7 @@
 mod common;
 
 use clothbake::bake::bake;
-use clothbake::table::{Layout, Table};
+use clothbake::table::{Geometry, Layout, Table, grid4d};
 use clothbake::table_file::{TableFileError, read_table, write_table};
 use common::*;
 use std::path::PathBuf;
@@ -19,15 +19,20 @@ fn small_table(name: &str, resolution: u32) -> Table {
     bake(&fabric(name), Layout::Grid4d, resolution, &|| {}).unwrap()
 }
 
+/// A thread_frame table at its smallest useful resolution (a few seconds to bake).
+fn small_thread_frame(name: &str) -> Table {
+    bake(&fabric(name), Layout::ThreadFrame, 8, &|| {}).unwrap()
+}
+
 #[test]
-fn lookup_reproduces_texels_at_centres_and_interpolates_between() {
+fn grid4d_lookup_reproduces_texels_at_centres_and_interpolates_between() {
     let table = small_table("silk_shot", 6);
-    let (width, height) = table.image_size();
-    for y in 0..height {
-        for x in 0..width {
-            let (wi, wo) = Layout::Grid4d.texel_directions(6, x, y);
+    let plane = &table.planes()[0];
+    for y in 0..plane.spec.height {
+        for x in 0..plane.spec.width {
+            let (wi, wo) = grid4d::texel_directions(6, x, y);
             let got = table.lookup_terms(wi, wo);
-            let stored = table.texel(x, y);
+            let stored = plane.texel(x, y);
             for c in 0..3 {
                 // Centres map back to themselves up to the octahedral round trip (1e-15).
                 assert!(
@@ -38,18 +43,78 @@ fn lookup_reproduces_texels_at_centres_and_interpolates_between() {
         }
     }
     // Halfway between two wo texel centres along one axis, the lookup is their mean.
-    let (wi, wo_a) = Layout::Grid4d.texel_directions(6, 2 * 6 + 1, 3 * 6 + 4);
-    let (_, wo_b) = Layout::Grid4d.texel_directions(6, 2 * 6 + 2, 3 * 6 + 4);
+    let (wi, wo_a) = grid4d::texel_directions(6, 2 * 6 + 1, 3 * 6 + 4);
+    let (_, wo_b) = grid4d::texel_directions(6, 2 * 6 + 2, 3 * 6 + 4);
     let uv = (clothbake::table::octahedral::encode(wo_a)
         + clothbake::table::octahedral::encode(wo_b))
         * 0.5;
     let mid = table.lookup_terms(wi, clothbake::table::octahedral::decode(uv));
-    let (a, b) = (table.texel(13, 22), table.texel(14, 22));
+    let (a, b) = (plane.texel(13, 22), plane.texel(14, 22));
     for c in 0..3 {
         let expected = 0.5 * (a[c] as f64 + b[c] as f64);
         assert!(
             (mid[c] - expected).abs() <= 1e-9 * expected.max(1e-6),
             "{mid:?} vs {a:?} {b:?}"
+        );
+    }
+}
+
+/// At a texel's own coordinates the thread_frame lookup returns that texel's stored
+/// channels, and halfway between two texels along an axis their mean.
+#[test]
+fn thread_frame_lookup_reproduces_texels_at_their_coordinates() {
+    let table = small_thread_frame("linen_plain");
+    let Geometry::ThreadFrame(geometry) = table.geometry() else {
+        panic!("not thread_frame")
+    };
+    let planes = table.planes();
+    for j in 0..2 {
+        let thread = &geometry.threads[j];
+        let n = thread.axes.map(|a| a.texels);
+        let mut checked = 0;
+        let all = (0..n[0]).flat_map(|i0| {
+            (0..n[1]).flat_map(move |i1| {
+                (0..n[2]).flat_map(move |i2| (0..n[3]).map(move |i3| [i0, i1, i2, i3]))
+            })
+        });
+        for index in all {
+            let coordinates = [0, 1, 2, 3].map(|a| thread.axes[a].texel_value(index[a]));
+            let (wi, wo) = thread.directions(coordinates);
+            // Texels below the horizon extend the function; only pairs above it are
+            // looked up (and only there is the coordinate map invertible).
+            if wi.z <= 1e-3 || wo.z <= 1e-3 {
+                continue;
+            }
+            let stored = &planes[j].data[thread.texel_index(index) * 2..][..2];
+            let [r, t, _] = geometry.sample_thread(planes, j, wi, wo);
+            for (got, want) in [(r, stored[0]), (t, stored[1])] {
+                assert!(
+                    (got - want as f64).abs() <= 1e-6 * (want as f64).abs().max(1e-3),
+                    "thread {j} {index:?}: {got} vs {want}"
+                );
+            }
+            // Halfway along φo' (a linear, periodic axis) between this texel and the next.
+            let next = [index[0], index[1], index[2], (index[3] + 1) % n[3]];
+            let mut halfway = coordinates;
+            halfway[3] += 0.5 * std::f64::consts::TAU / n[3] as f64;
+            let (wi, wo) = thread.directions(halfway);
+            if wi.z <= 1e-3 || wo.z <= 1e-3 {
+                continue;
+            }
+            let following = &planes[j].data[thread.texel_index(next) * 2..][..2];
+            let [r, t, _] = geometry.sample_thread(planes, j, wi, wo);
+            for (got, a, b) in [(r, stored[0], following[0]), (t, stored[1], following[1])] {
+                let want = 0.5 * (a as f64 + b as f64);
+                assert!(
+                    (got - want).abs() <= 1e-6 * want.abs().max(1e-3),
+                    "thread {j} {index:?} halfway: {got} vs {want}"
+                );
+            }
+            checked += 1;
+        }
+        assert!(
+            checked > 100,
+            "thread {j}: only {checked} texels above the horizon"
         );
     }
 }
@@ -63,30 +128,34 @@ fn bake_is_identical_for_one_and_two_threads() {
             .unwrap()
     };
     let fabric = fabric("velvet");
-    let one = pool(1).install(|| bake(&fabric, Layout::Grid4d, 5, &|| {}).unwrap());
-    let two = pool(2).install(|| bake(&fabric, Layout::Grid4d, 5, &|| {}).unwrap());
-    assert_eq!(one, two);
     let dir = temp_dir("determinism");
-    write_table(&dir.join("a.exr"), &one, &fabric).unwrap();
-    write_table(&dir.join("b.exr"), &two, &fabric).unwrap();
-    assert_eq!(
-        std::fs::read(dir.join("a.exr")).unwrap(),
-        std::fs::read(dir.join("b.exr")).unwrap()
-    );
+    for (layout, resolution) in [(Layout::Grid4d, 5), (Layout::ThreadFrame, 8)] {
+        let one = pool(1).install(|| bake(&fabric, layout, resolution, &|| {}).unwrap());
+        let two = pool(2).install(|| bake(&fabric, layout, resolution, &|| {}).unwrap());
+        assert_eq!(one, two, "{layout}");
+        write_table(&dir.join("a.exr"), &one).unwrap();
+        write_table(&dir.join("b.exr"), &two).unwrap();
+        let bytes = |name: &str| std::fs::read(dir.join(name)).unwrap();
+        assert_eq!(bytes("a.exr"), bytes("b.exr"), "{layout}");
+    }
     std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
 fn exr_round_trip_keeps_texels_and_provenance() {
-    let table = small_table("polyester_satin_charmeuse", 4);
-    let fabric = fabric("polyester_satin_charmeuse");
     let dir = temp_dir("roundtrip");
     let path = dir.join("satin.exr");
-    let hash = write_table(&path, &table, &fabric).unwrap();
+    for table in [
+        small_table("polyester_satin_charmeuse", 4),
+        small_thread_frame("polyester_satin_charmeuse"),
+    ] {
+        let hash = write_table(&path, &table).unwrap();
+        let file = read_table(&path).unwrap();
+        assert_eq!(file.table, table);
+        assert_eq!(file.hash, hash);
+    }
     let file = read_table(&path).unwrap();
-    assert_eq!(file.table, table);
-    assert_eq!(file.fabric, fabric);
-    assert_eq!(file.hash, hash);
+    assert_eq!(file.table.fabric, fabric("polyester_satin_charmeuse"));
     assert_eq!(file.version, env!("CARGO_PKG_VERSION"));
     // No temporary file is left beside the table.
     let names: Vec<String> = std::fs::read_dir(&dir)
@@ -100,11 +169,10 @@ fn exr_round_trip_keeps_texels_and_provenance() {
 /// Every damaged variant gives an error naming the file, never a panic.
 #[test]
 fn damaged_files_are_rejected() {
-    let fabric = fabric("linen_plain");
     let table = small_table("linen_plain", 4);
     let dir = temp_dir("damaged");
     let good = dir.join("good.exr");
-    write_table(&good, &table, &fabric).unwrap();
+    write_table(&good, &table).unwrap();
     let bytes = std::fs::read(&good).unwrap();
     let mut variants: Vec<(String, Vec<u8>)> = vec![
         ("empty".into(), vec![]),
@@ -156,7 +224,7 @@ fn wrong_channels_dimensions_attributes_and_nan_texels_are_rejected() {
                     )
                 })
                 .collect();
-            let mut attributes = LayerAttributes::named("clothbake");
+            let mut attributes = LayerAttributes::named("grid4d");
             if let Some(text) = provenance {
                 attributes.other.insert(
                     Text::from("clothbake"),
@@ -175,12 +243,7 @@ fn wrong_channels_dimensions_attributes_and_nan_texels_are_rejected() {
         };
     // A genuine provenance document, taken from a baked table, and edits of it.
     let baked = dir.join("baked.exr");
-    write_table(
-        &baked,
-        &small_table("linen_plain", 4),
-        &fabric("linen_plain"),
-    )
-    .unwrap();
+    write_table(&baked, &small_table("linen_plain", 4)).unwrap();
     let meta = exr::meta::MetaData::read_from_file(&baked, false).unwrap();
     let provenance = match meta.headers[0]
         .own_attributes
@@ -191,6 +254,7 @@ fn wrong_channels_dimensions_attributes_and_nan_texels_are_rejected() {
         other => panic!("no provenance: {other:?}"),
     };
     let ours = ["reflection", "transmission1", "transmission2"];
+    // Hand-written files use the layer name the layout expects.
     let cases = [
         (
             write("valid.exr", (16, 16), &ours, Some(provenance.clone())),
@@ -203,11 +267,11 @@ fn wrong_channels_dimensions_attributes_and_nan_texels_are_rejected() {
                 &["R", "G", "B"],
                 Some(provenance.clone()),
             ),
-            "channels are",
+            "has channels",
         ),
         (
             write("size.exr", (16, 15), &ours, Some(provenance.clone())),
-            "needs 16x16",
+            "needs layer 'grid4d' of 16x16",
         ),
         (
             write(
@@ -254,11 +318,11 @@ fn wrong_channels_dimensions_attributes_and_nan_texels_are_rejected() {
     }
     // NaN texels in an otherwise valid file: write a real table, then patch its texels.
     let fabric = fabric("linen_plain");
-    let mut texels = small_table("linen_plain", 4).texels().to_vec();
-    texels[7][1] = f32::NAN;
-    let table = Table::new(Layout::Grid4d, 4, [[0.0; 3]; 2], texels);
+    let mut planes = small_table("linen_plain", 4).planes().to_vec();
+    planes[0].data[7 * 3 + 1] = f32::NAN;
+    let table = Table::new(Layout::Grid4d, 4, &fabric, None, planes).unwrap();
     let path = dir.join("nan.exr");
-    write_table(&path, &table, &fabric).unwrap();
+    write_table(&path, &table).unwrap();
     let message = read_table(&path).expect_err("NaN accepted").to_string();
     assert!(
         message.contains("texel (7, 0)") && message.contains("NaN"),

@@ -153,9 +153,15 @@ pub fn curve_pieces(
     match integration {
         Integration::Direct | Integration::Baking => {
             let (spacing, min_count) = if integration == Integration::Direct {
-                (DIRECT_MAX_SPACING_DEG.min(sigma_min_deg / DIRECT_SAMPLES_PER_SIGMA), DIRECT_MIN_NODES_PER_INTERVAL)
+                (
+                    DIRECT_MAX_SPACING_DEG.min(sigma_min_deg / DIRECT_SAMPLES_PER_SIGMA),
+                    DIRECT_MIN_NODES_PER_INTERVAL,
+                )
             } else {
-                (BAKING_MAX_SPACING_DEG.min(sigma_min_deg / BAKING_SAMPLES_PER_SIGMA), BAKING_MIN_NODES_PER_INTERVAL)
+                (
+                    BAKING_MAX_SPACING_DEG.min(sigma_min_deg / BAKING_SAMPLES_PER_SIGMA),
+                    BAKING_MIN_NODES_PER_INTERVAL,
+                )
             };
             let span: f64 = offsets.windows(2).map(|w| (w[1] - w[0]).abs()).sum();
             // Keep the total under the cap by widening the spacing uniformly.
@@ -171,7 +177,13 @@ pub fn curve_pieces(
                 }
                 let count = (((b - a).abs() / spacing).ceil() as usize).max(1);
                 let (start, end) = (a.min(b).to_radians(), a.max(b).to_radians());
-                nodes.push(CurvePiece { start, end, weight: share, count, min_count });
+                nodes.push(CurvePiece {
+                    start,
+                    end,
+                    weight: share,
+                    count,
+                    min_count,
+                });
             }
         }
         Integration::Paper(n) => {

@@ -155,8 +155,8 @@ impl ThreadModel {
                 continue;
             }
             let length = piece.end - piece.start;
-            let count = ((piece.count as f64 * (hi - lo) / length).ceil() as usize)
-                .max(piece.min_count);
+            let count =
+                ((piece.count as f64 * (hi - lo) / length).ceil() as usize).max(piece.min_count);
             let step = (hi - lo) / count as f64;
             let weight = piece.weight * step / length;
             // Midpoints by rotation: (cos, sin) advance by the angle `step` each node.

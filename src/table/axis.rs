@@ -56,11 +56,19 @@ pub struct Axis {
 
 impl Axis {
     pub fn clamped(texels: usize, warp: Warp) -> Self {
-        Self { texels, periodic: false, warp }
+        Self {
+            texels,
+            periodic: false,
+            warp,
+        }
     }
 
     pub fn periodic(texels: usize, lo: f64, hi: f64) -> Self {
-        Self { texels, periodic: true, warp: Warp::Linear { lo, hi } }
+        Self {
+            texels,
+            periodic: true,
+            warp: Warp::Linear { lo, hi },
+        }
     }
 
     /// The value texel `i` holds.
@@ -100,7 +108,10 @@ mod tests {
     fn warps_invert() {
         let warps = [
             Warp::Linear { lo: -1.0, hi: 2.0 },
-            Warp::Knots { xs: [0.0, 0.2, 0.9, 1.0], vs: [-1.5, -0.5, 0.3, 1.5] },
+            Warp::Knots {
+                xs: [0.0, 0.2, 0.9, 1.0],
+                vs: [-1.5, -0.5, 0.3, 1.5],
+            },
             Warp::SinEnds { hi: 1.5, k: 1.4 },
         ];
         for w in warps {

@@ -1,0 +1,451 @@
+//! Layout `thread_frame`: per thread, a 4D table in coordinates aligned with the thread's
+//! specular resonance, plus a 2D table of the thread's masking mean ⟨P⟩.
+//!
+//! # Why these coordinates
+//! For thread j (base tangent t0, rotation axis b) let h = wi + wo and
+//! `βH = atan2(h·t0, h·z)`. Then `h·t(α) = |h∥| sin(βH + α)`, so the tangent sample
+//! `α' = −βH` is exactly the one whose surface lobe peaks (θh = 0), and a sample α near it
+//! has `θh ≈ k(α + βH)` with `k = (cos φi' + cos φo')/2`. A point of the curve's α density
+//! becomes a ridge `βH = −α` of width γs/|k|; everything else varies smoothly in the other
+//! three coordinates, measured in the resonant sample's frame t' = t(α'), n' = n(α'):
+//!
+//! | axis | value | range | texels |
+//! |---|---|---|---|
+//! | 0 | βH | [−90°, 90°], piecewise linear: 70% of the texels on the band [−α_max − 4σs, −α_min + 4σs] where the curve's ridges lie | 2 per σs over the band (at least 16, capped by the texel budget) |
+//! | 1 | θd' = asin(½(wi·t' − wo·t')) | [−L, L], L = 90° − 1e-4 rad, `Warp::SinEnds` k = 1.4 (denser towards grazing) | 0.6·R |
+//! | 2 | φi' = atan2(wi·b, wi·n'), folded to [0°, 180°] | linear | R/2 |
+//! | 3 | φo' = atan2(wo·b, wo·n'), negated with the fold | periodic over [−180°, 180°) | R |
+//!
+//! R is the table's `resolution`. The fold uses the exact symmetry b → −b of each sample
+//! (both φ' change sign). Texel centres follow [`super::axis`]. Texels whose directions
+//! fall below the horizon are baked with the same formula, so the stored function continues
+//! smoothly past the domain edge instead of dropping to 0.
+//!
+//! # Channels and lookup
+//! The 4D table of thread j stores `reflection = R_j/√⟨P⟩_j` (or `R_j/⟨P⟩_j`, recorded per
+//! table as `reflection_scale`) and `transmission = T_j/⟨P⟩_j`, where R_j, T_j, ⟨P⟩_j are
+//! the thread's curve means ([`crate::model::ThreadMeans`]). Dividing by ⟨P⟩ keeps F a
+//! ⟨P⟩-weighted mean of bounded ratios where Q → 0 near the horizon; R/⟨P⟩ grows without
+//! bound at grazing forward scattering, so R is by default divided by √⟨P⟩ only. Texels with
+//! ⟨P⟩ < 1e-3 hold no reliable ratio and are filled from their neighbours.
+//!
+//! ⟨P⟩_j depends only on the angles `β = atan2(w·t0, w·z)` of wi and wo in the t0–z plane,
+//! and is stored exactly enough in a 129×129 table over (βi, βo) ∈ [−90°, 90°]², clamped,
+//! texel i at `−90° + 180°·i/128`, bilinear.
+//!
+//! A lookup for thread j: the four coordinates, a quadrilinear interpolation of the 4D table
+//! (on a GPU: axes 0, 1, 3 by hardware filtering of a 3D texture, axis 2 by a manual blend of
+//! two layers), and ⟨P⟩_j bilinearly from its 2D table; then
+//! `Q = a1⟨P⟩_1 + a2⟨P⟩_2 + (1 − a1 − a2)·wo.z` and
+//! `F = Σ_j a_j (R_j + A_j T_j) / Q`.
+//!
+//! # Planes (EXR layers)
+//! `thread1`, `thread2`: channels `reflection`, `transmission`; width = axis-0 texels,
+//! height = (axis 2 × axis 3 × axis 1) texels: row `(i2·N3 + i3)·N1 + i1`, column `i0`.
+//! `masking1`, `masking2`: channel `masking`, 129×129, column βi, row βo.
+
+use super::axis::{Axis, Warp};
+use super::{Plane, PlaneSpec};
+use crate::model::{Fabric, Integration, patch::ThreadModel};
+use glam::DVec3;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// Texels of the ⟨P⟩ table per axis.
+pub const MASKING_TEXELS: usize = 129;
+/// Budget of 4D texels per thread: two f16 channels per texel keeps a fabric (two threads)
+/// within 16 MiB.
+pub const MAX_TEXELS_PER_THREAD: usize = 2_000_000;
+/// ⟨P⟩ below which a texel's ratio is not stored but filled from its neighbours.
+pub const MASKING_FLOOR: f64 = 1e-3;
+const BETA_FOCUS: f64 = 0.7;
+const BETA_TEXELS_PER_SIGMA: f64 = 2.0;
+const THETA_WARP_K: f64 = 1.4;
+
+/// What the reflection channel is divided by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReflectionScale {
+    /// `R/√⟨P⟩`: bounded at grazing forward scattering.
+    SqrtMasking,
+    /// `R/⟨P⟩`: best where Q → 0 dominates (velvet).
+    Masking,
+}
+
+/// One thread's lookup geometry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThreadGeometry {
+    pub t0: DVec3,
+    pub b: DVec3,
+    pub axes: [Axis; 4],
+    pub masking_axis: Axis,
+}
+
+fn thread_frame_of(index: usize) -> (DVec3, DVec3) {
+    if index == 0 {
+        (DVec3::X, DVec3::Y)
+    } else {
+        (DVec3::Y, DVec3::X)
+    }
+}
+
+impl ThreadGeometry {
+    /// The axes of thread `index` of `fabric` at `resolution`.
+    pub fn new(fabric: &Fabric, index: usize, resolution: u32) -> Self {
+        let (t0, b) = thread_frame_of(index);
+        let thread = fabric.threads()[index];
+        let sigma_s = fabric
+            .options
+            .lobe_sigma_deg(thread.gamma_s_deg)
+            .to_radians();
+        let offsets = &thread.offsets_deg;
+        let alpha_min = offsets
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+            .to_radians();
+        let alpha_max = offsets
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max)
+            .to_radians();
+        let r = resolution as usize;
+        let (n_theta, n_phi_i, n_phi_o) = (((r * 3) / 5).max(4), (r / 2).max(2), r.max(4));
+        let lo = (-alpha_max - 4.0 * sigma_s).max(-FRAC_PI_2);
+        let hi = (-alpha_min + 4.0 * sigma_s).min(FRAC_PI_2);
+        let band_texels = (hi - lo) / sigma_s * BETA_TEXELS_PER_SIGMA / BETA_FOCUS;
+        let cap = MAX_TEXELS_PER_THREAD / (n_theta * n_phi_i * n_phi_o);
+        let n_beta = (band_texels.ceil() as usize).clamp(16, cap.max(16));
+        let beta = if hi - lo > 0.9 * PI {
+            Axis::clamped(
+                n_beta,
+                Warp::Linear {
+                    lo: -FRAC_PI_2,
+                    hi: FRAC_PI_2,
+                },
+            )
+        } else {
+            // The two outer parts share the remaining texels in proportion to their length.
+            let (left, right) = ((lo + FRAC_PI_2).max(1e-6), (FRAC_PI_2 - hi).max(1e-6));
+            let x1 = (1.0 - BETA_FOCUS) * left / (left + right);
+            let vs = [
+                -FRAC_PI_2,
+                lo.max(-FRAC_PI_2 + 1e-6),
+                hi.min(FRAC_PI_2 - 1e-6),
+                FRAC_PI_2,
+            ];
+            Axis::clamped(
+                n_beta,
+                Warp::Knots {
+                    xs: [0.0, x1, x1 + BETA_FOCUS, 1.0],
+                    vs,
+                },
+            )
+        };
+        let theta_limit = FRAC_PI_2 - 1e-4;
+        Self {
+            t0,
+            b,
+            axes: [
+                beta,
+                Axis::clamped(
+                    n_theta,
+                    Warp::SinEnds {
+                        hi: theta_limit,
+                        k: THETA_WARP_K,
+                    },
+                ),
+                Axis::clamped(n_phi_i, Warp::Linear { lo: 0.0, hi: PI }),
+                Axis::periodic(n_phi_o, -PI, PI),
+            ],
+            masking_axis: Axis::clamped(
+                MASKING_TEXELS,
+                Warp::Linear {
+                    lo: -FRAC_PI_2,
+                    hi: FRAC_PI_2,
+                },
+            ),
+        }
+    }
+
+    /// The plane holding this thread's 4D table.
+    pub fn spec(&self, index: usize) -> PlaneSpec {
+        let [a0, a1, a2, a3] = self.axes.map(|a| a.texels);
+        PlaneSpec::new(
+            format!("thread{}", index + 1),
+            a0,
+            a1 * a2 * a3,
+            &["reflection", "transmission"],
+        )
+    }
+
+    /// Row-major index of texel `(i0, i1, i2, i3)` in the plane.
+    #[inline]
+    pub fn texel_index(&self, i: [usize; 4]) -> usize {
+        let n = self.axes.map(|a| a.texels);
+        ((i[2] * n[3] + i[3]) * n[1] + i[1]) * n[0] + i[0]
+    }
+
+    /// The table coordinates (βH, θd', φi', φo') of a pair, folded to φi' ≥ 0.
+    pub fn coordinates(&self, wi: DVec3, wo: DVec3) -> [f64; 4] {
+        let h = wi + wo;
+        let beta_h = h.dot(self.t0).atan2(h.z);
+        let (t_res, n_res) = self.resonant_frame(beta_h);
+        let theta_d = (0.5 * (wi.dot(t_res) - wo.dot(t_res)))
+            .clamp(-1.0, 1.0)
+            .asin();
+        let phi_i = wi.dot(self.b).atan2(wi.dot(n_res));
+        let phi_o = wo.dot(self.b).atan2(wo.dot(n_res));
+        let sign = if phi_i < 0.0 { -1.0 } else { 1.0 };
+        [beta_h, theta_d, sign * phi_i, sign * phi_o]
+    }
+
+    /// The pair at table coordinates (the inverse of [`Self::coordinates`]).
+    pub fn directions(&self, [beta_h, theta_d, phi_i, phi_o]: [f64; 4]) -> (DVec3, DVec3) {
+        let (t_res, n_res) = self.resonant_frame(beta_h);
+        let (sin_d, cos_d) = theta_d.sin_cos();
+        let across = |phi: f64| cos_d * (phi.cos() * n_res + phi.sin() * self.b);
+        (
+            sin_d * t_res + across(phi_i),
+            -sin_d * t_res + across(phi_o),
+        )
+    }
+
+    /// t(α') and n(α') for the resonant sample α' = −βH.
+    fn resonant_frame(&self, beta_h: f64) -> (DVec3, DVec3) {
+        let (s, c) = beta_h.sin_cos();
+        (c * self.t0 - s * DVec3::Z, s * self.t0 + c * DVec3::Z)
+    }
+
+    /// The angle of w in the t0–z plane, the masking table's coordinate.
+    #[inline]
+    pub fn beta(&self, w: DVec3) -> f64 {
+        w.dot(self.t0).atan2(w.z)
+    }
+}
+
+/// The lookup geometry of a whole table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Geometry {
+    pub threads: [ThreadGeometry; 2],
+    pub coverage: [f64; 2],
+    pub gap: f64,
+    pub reflection_scale: ReflectionScale,
+}
+
+impl Geometry {
+    pub fn new(fabric: &Fabric, resolution: u32, reflection_scale: ReflectionScale) -> Self {
+        Self {
+            threads: [0, 1].map(|j| ThreadGeometry::new(fabric, j, resolution)),
+            coverage: [fabric.thread1.coverage, fabric.thread2.coverage],
+            gap: (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0),
+            reflection_scale,
+        }
+    }
+
+    pub fn specs(&self) -> Vec<PlaneSpec> {
+        let mut specs: Vec<PlaneSpec> = self
+            .threads
+            .iter()
+            .enumerate()
+            .map(|(j, t)| t.spec(j))
+            .collect();
+        for j in 0..2 {
+            specs.push(PlaneSpec::new(
+                format!("masking{}", j + 1),
+                MASKING_TEXELS,
+                MASKING_TEXELS,
+                &["masking"],
+            ));
+        }
+        specs
+    }
+
+    /// Thread `j`'s interpolated stored channels and masking at (wi, wo):
+    /// `[reflection, transmission, ⟨P⟩]` as the planes hold them (before rescaling).
+    pub fn sample_thread(&self, planes: &[Plane], j: usize, wi: DVec3, wo: DVec3) -> [f64; 3] {
+        let thread = &self.threads[j];
+        let coordinates = thread.coordinates(wi, wo);
+        let axes: [(usize, usize, f64); 4] =
+            std::array::from_fn(|a| thread.axes[a].locate(coordinates[a]));
+        let (mut r, mut t) = (0.0, 0.0);
+        for corner in 0..16 {
+            let mut weight = 1.0;
+            let index: [usize; 4] = std::array::from_fn(|a| {
+                let upper = corner >> a & 1 == 1;
+                weight *= if upper { axes[a].2 } else { 1.0 - axes[a].2 };
+                if upper { axes[a].1 } else { axes[a].0 }
+            });
+            let texel = thread.texel_index(index) * 2;
+            r += weight * planes[j].data[texel] as f64;
+            t += weight * planes[j].data[texel + 1] as f64;
+        }
+        let masking = bilinear(
+            &planes[2 + j],
+            thread.masking_axis,
+            thread.beta(wi),
+            thread.beta(wo),
+        )
+        .max(0.0);
+        [r, t, masking]
+    }
+
+    /// The interpolated terms (reflection, transmission1, transmission2), already divided
+    /// by Q, from `planes` in the order of [`Self::specs`].
+    pub fn lookup_terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3] {
+        let mut reflection = 0.0;
+        let mut transmission = [0.0; 2];
+        let mut q = self.gap * wo.z;
+        for (j, share) in transmission.iter_mut().enumerate() {
+            let [r, t, masking] = self.sample_thread(planes, j, wi, wo);
+            let r_scale = match self.reflection_scale {
+                ReflectionScale::SqrtMasking => masking.sqrt(),
+                ReflectionScale::Masking => masking,
+            };
+            reflection += self.coverage[j] * r * r_scale;
+            *share = self.coverage[j] * t * masking;
+            q += self.coverage[j] * masking;
+        }
+        if q <= 0.0 {
+            return [0.0; 3];
+        }
+        [reflection / q, transmission[0] / q, transmission[1] / q]
+    }
+}
+
+/// Bilinear interpolation of a one-channel square plane over the same axis in x and y.
+fn bilinear(plane: &Plane, axis: Axis, x: f64, y: f64) -> f64 {
+    let (x0, x1, fx) = axis.locate(x);
+    let (y0, y1, fy) = axis.locate(y);
+    let width = plane.spec.width;
+    let at = |i: usize, j: usize| plane.data[j * width + i] as f64;
+    (1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x1, y0))
+        + fy * ((1.0 - fx) * at(x0, y1) + fx * at(x1, y1))
+}
+
+/// Curve means (R, T, ⟨P⟩) of every texel of one thread's 4D table, in plane order.
+pub fn bake_thread_means(
+    fabric: &Fabric,
+    geometry: &ThreadGeometry,
+    index: usize,
+    on_row: &(dyn Fn() + Sync),
+) -> Vec<[f64; 3]> {
+    use rayon::prelude::*;
+    let model = ThreadModel::new(fabric, index, Integration::Baking);
+    let n = geometry.axes.map(|a| a.texels);
+    let values: [Vec<f64>; 4] =
+        std::array::from_fn(|a| (0..n[a]).map(|i| geometry.axes[a].texel_value(i)).collect());
+    let rows = n[1] * n[2] * n[3];
+    (0..rows)
+        .into_par_iter()
+        .flat_map_iter(|row| {
+            let (i1, i3, i2) = (row % n[1], (row / n[1]) % n[3], row / (n[1] * n[3]));
+            let values = &values;
+            let model = &model;
+            let row_values: Vec<[f64; 3]> = (0..n[0])
+                .map(|i0| {
+                    let (wi, wo) = geometry.directions([
+                        values[0][i0],
+                        values[1][i1],
+                        values[2][i2],
+                        values[3][i3],
+                    ]);
+                    let m = model.means(wi, wo);
+                    [m.reflection, m.transmission, m.masking]
+                })
+                .collect();
+            on_row();
+            row_values
+        })
+        .collect()
+}
+
+/// The masking plane of one thread: ⟨P⟩ at (βi, βo) for directions in the t0–z plane
+/// (⟨P⟩ depends on nothing else).
+pub fn bake_masking(fabric: &Fabric, geometry: &ThreadGeometry, index: usize) -> Vec<f64> {
+    use rayon::prelude::*;
+    let model = ThreadModel::new(fabric, index, Integration::Direct);
+    let axis = geometry.masking_axis;
+    let in_plane = |beta: f64| beta.sin() * geometry.t0 + beta.cos() * DVec3::Z;
+    (0..axis.texels * axis.texels)
+        .into_par_iter()
+        .map(|k| {
+            let (i, j) = (k % axis.texels, k / axis.texels);
+            model
+                .means(in_plane(axis.texel_value(i)), in_plane(axis.texel_value(j)))
+                .masking
+        })
+        .collect()
+}
+
+/// Stored channels of one thread from its curve means: (R/scale, T/⟨P⟩), with texels of
+/// ⟨P⟩ below [`MASKING_FLOOR`] filled from their neighbours.
+pub fn encode_thread(
+    means: &[[f64; 3]],
+    dims: [usize; 4],
+    scale: ReflectionScale,
+) -> Vec<[f64; 2]> {
+    let mut data: Vec<[f64; 2]> = means
+        .iter()
+        .map(|&[r, t, p]| {
+            if p < MASKING_FLOOR {
+                return [f64::NAN; 2];
+            }
+            let r_scale = match scale {
+                ReflectionScale::SqrtMasking => p.sqrt(),
+                ReflectionScale::Masking => p,
+            };
+            [r / r_scale, t / p]
+        })
+        .collect();
+    fill_undefined(&mut data, dims);
+    data
+}
+
+/// Replaces NaN texels by the mean of their defined axis neighbours, sweep after sweep, so
+/// the stored function continues smoothly into texels where it is undefined. `dims` are the
+/// texel counts in plane order (fastest first: axis 0, axis 1, axis 3, axis 2).
+fn fill_undefined(data: &mut [[f64; 2]], dims: [usize; 4]) {
+    let strides = [1, dims[0], dims[0] * dims[1], dims[0] * dims[1] * dims[2]];
+    for c in 0..2 {
+        let mut pending: Vec<usize> = (0..data.len()).filter(|&k| data[k][c].is_nan()).collect();
+        while !pending.is_empty() {
+            let mut updates = Vec::new();
+            let mut rest = Vec::new();
+            for &k in &pending {
+                let (mut sum, mut count) = (0.0, 0);
+                for a in 0..4 {
+                    let i = (k / strides[a]) % dims[a];
+                    for (exists, neighbour) in [
+                        (i > 0, k.wrapping_sub(strides[a])),
+                        (i + 1 < dims[a], k + strides[a]),
+                    ] {
+                        if exists && !data[neighbour][c].is_nan() {
+                            sum += data[neighbour][c];
+                            count += 1;
+                        }
+                    }
+                }
+                if count > 0 {
+                    updates.push((k, sum / count as f64))
+                } else {
+                    rest.push(k)
+                }
+            }
+            if updates.is_empty() {
+                rest.iter().for_each(|&k| data[k][c] = 0.0);
+                break;
+            }
+            for (k, v) in updates {
+                data[k][c] = v;
+            }
+            pending = rest;
+        }
+    }
+}
+
+/// Plane-order dimensions (fastest first) of a thread's 4D table.
+pub fn plane_dims(geometry: &ThreadGeometry) -> [usize; 4] {
+    let n = geometry.axes.map(|a| a.texels);
+    [n[0], n[1], n[3], n[2]]
+}
