@@ -11,7 +11,7 @@
 //! texture of N² layers (layer = wi texel x + N·y), bilinear filtering within each layer
 //! over wo, and a manual bilinear blend of the 4 layers around wi.
 
-use super::{Plane, PlaneSpec, octahedral};
+use super::{Plane, PlaneSpec, octahedral, quadrilinear_corners};
 use crate::model::{Fabric, Integration, Patch};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -77,13 +77,7 @@ pub fn lookup_terms(plane: &Plane, resolution: u32, wi: DVec3, wo: DVec3) -> [f6
     let co = octahedral::encode(wo) * n as f64 - 0.5;
     let axes = [axis(ci.x, n), axis(ci.y, n), axis(co.x, n), axis(co.y, n)];
     let mut sum = [0.0f64; 3];
-    for corner in 0..16 {
-        let mut weight = 1.0;
-        let index: [usize; 4] = std::array::from_fn(|a| {
-            let upper = corner >> a & 1 == 1;
-            weight *= if upper { axes[a].2 } else { 1.0 - axes[a].2 };
-            if upper { axes[a].1 } else { axes[a].0 }
-        });
+    for (index, weight) in quadrilinear_corners(axes) {
         let texel = plane.texel(index[0] * n + index[2], index[1] * n + index[3]);
         for c in 0..3 {
             sum[c] += weight * texel[c] as f64;

@@ -97,6 +97,22 @@ impl fmt::Display for Layout {
     }
 }
 
+/// The 16 corners of a 4D multilinear interpolation: for each axis `(i0, i1, weight of
+/// i1)`, yields the corner's indices and its weight (the product over axes).
+pub fn quadrilinear_corners(
+    axes: [(usize, usize, f64); 4],
+) -> impl Iterator<Item = ([usize; 4], f64)> {
+    (0..16).map(move |corner| {
+        let mut weight = 1.0;
+        let index = std::array::from_fn(|a| {
+            let upper = corner >> a & 1 == 1;
+            weight *= if upper { axes[a].2 } else { 1.0 - axes[a].2 };
+            if upper { axes[a].1 } else { axes[a].0 }
+        });
+        (index, weight)
+    })
+}
+
 /// The shape of one plane: its name (the EXR layer name), size and channel names.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PlaneSpec {

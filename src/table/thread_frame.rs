@@ -45,7 +45,7 @@
 //! `masking1`, `masking2`: channel `masking`, 129×129, column βi, row βo.
 
 use super::axis::{Axis, Warp};
-use super::{Plane, PlaneSpec};
+use super::{Plane, PlaneSpec, quadrilinear_corners};
 use crate::model::{Fabric, Integration, patch::ThreadModel};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -269,13 +269,7 @@ impl Geometry {
         let axes: [(usize, usize, f64); 4] =
             std::array::from_fn(|a| thread.axes[a].locate(coordinates[a]));
         let (mut r, mut t) = (0.0, 0.0);
-        for corner in 0..16 {
-            let mut weight = 1.0;
-            let index: [usize; 4] = std::array::from_fn(|a| {
-                let upper = corner >> a & 1 == 1;
-                weight *= if upper { axes[a].2 } else { 1.0 - axes[a].2 };
-                if upper { axes[a].1 } else { axes[a].0 }
-            });
+        for (index, weight) in quadrilinear_corners(axes) {
             let texel = thread.texel_index(index) * 2;
             r += weight * planes[j].data[texel] as f64;
             t += weight * planes[j].data[texel + 1] as f64;
