@@ -1,10 +1,13 @@
 //! Nanoseconds per evaluation of F(wi, wo) for each built-in fabric: the converged direct
-//! evaluation and paper mode at N = 8 and 32 samples per thread.
+//! evaluation, paper mode at N = 8 and 32 samples per thread, and the CPU lookup of the
+//! default table (baked at the default resolution during setup).
 //!
 //! `cargo bench --bench direct_eval`; each figure is the median time of one batch of
 //! direction pairs divided by the batch size, reported by criterion per element.
 
+use clothbake::bake::bake;
 use clothbake::fabric_file::FabricSet;
+use clothbake::table::Layout;
 use clothbake::model::{Integration, Patch};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
@@ -58,5 +61,24 @@ fn bench_direct_eval(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_direct_eval);
+fn bench_lookup(c: &mut Criterion) {
+    let pairs = direction_pairs(256);
+    let mut group = c.benchmark_group("eval");
+    group.throughput(Throughput::Elements(pairs.len() as u64));
+    let layout = Layout::ThreadFrame;
+    for fabric in FabricSet::builtin().fabrics() {
+        let table = bake(fabric, layout, layout.default_resolution(), &|| {}).expect("bake");
+        group.bench_function(BenchmarkId::new("table_lookup", &fabric.name), |b| {
+            b.iter(|| {
+                pairs
+                    .iter()
+                    .map(|&(wi, wo)| table.lookup(black_box(wi), black_box(wo)))
+                    .sum::<DVec3>()
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_direct_eval, bench_lookup);
 criterion_main!(benches);
