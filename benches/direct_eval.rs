@@ -7,8 +7,8 @@
 
 use clothbake::bake::bake;
 use clothbake::fabric_file::FabricSet;
-use clothbake::table::Layout;
 use clothbake::model::{Integration, Patch};
+use clothbake::table::Layout;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use glam::DVec3;
 use std::hint::black_box;

@@ -4,16 +4,10 @@
 //! Each texel is a pure function of its coordinates and results are collected in order, so a
 //! table is bit-identical whatever the thread count.
 
-use crate::accuracy::{TableError, measure};
 use crate::model::Fabric;
-use crate::table::thread_frame::{self, ReflectionScale};
+use crate::table::thread_frame;
 use crate::table::{Layout, Plane, PlaneSpec, Table, grid4d};
 use half::f16;
-
-/// Pairs per set on which `thread_frame` picks its reflection scale (see
-/// [`thread_frame::ReflectionScale`]): the two candidates differ by factors, not percent, on
-/// the fabrics where the choice matters, so a thousand pairs decide it.
-pub const SCALE_SELECTION_PAIRS: usize = 1000;
 
 /// Why a bake failed.
 #[derive(Debug, thiserror::Error)]
@@ -88,48 +82,33 @@ pub fn bake(
         Layout::Grid4d => {
             let values = grid4d::bake(fabric, resolution, on_row);
             let plane = quantize(fabric, grid4d::spec(resolution), &values)?;
-            Table::new(layout, resolution, fabric, None, vec![plane]).map_err(BakeError::Internal)
+            Table::new(layout, resolution, fabric, vec![plane]).map_err(BakeError::Internal)
         }
-        Layout::ThreadFrame => {
-            bake_thread_frame(fabric, resolution, on_row).map(|(table, _)| table)
-        }
+        Layout::ThreadFrame => bake_thread_frame(fabric, resolution, on_row),
     }
 }
 
-/// Bakes a `thread_frame` table: the curve means once per texel, then both reflection
-/// scales encoded, and the one with the lower measured error kept.
+/// Bakes a `thread_frame` table: the curve means of every texel of both threads, encoded
+/// as the layout documents, and the masking planes.
 fn bake_thread_frame(
     fabric: &Fabric,
     resolution: u32,
     on_row: &(dyn Fn() + Sync),
-) -> Result<(Table, TableError), BakeError> {
-    let geometry = thread_frame::Geometry::new(fabric, resolution, ReflectionScale::SqrtMasking);
+) -> Result<Table, BakeError> {
+    let geometry = thread_frame::Geometry::new(fabric, resolution);
     let specs = geometry.specs();
-    let means: Vec<Vec<[f64; 3]>> = (0..2)
-        .map(|j| thread_frame::bake_thread_means(fabric, &geometry.threads[j], j, on_row))
-        .collect();
-    let mut masking_planes = Vec::new();
-    for j in 0..2 {
-        let values = thread_frame::bake_masking(fabric, &geometry.threads[j], j);
-        masking_planes.push(quantize(fabric, specs[2 + j].clone(), &values)?);
+    let mut planes = Vec::with_capacity(specs.len());
+    for (j, thread) in geometry.threads.iter().enumerate() {
+        let means = thread_frame::bake_thread_means(fabric, thread, j, on_row);
+        let flat: Vec<f64> = thread_frame::encode_thread(&means, thread)
+            .into_iter()
+            .flatten()
+            .collect();
+        planes.push(quantize(fabric, specs[j].clone(), &flat)?);
     }
-    let mut best: Option<(Table, TableError)> = None;
-    for scale in [ReflectionScale::SqrtMasking, ReflectionScale::Masking] {
-        let mut planes = Vec::new();
-        for j in 0..2 {
-            let dims = thread_frame::plane_dims(&geometry.threads[j]);
-            let encoded = thread_frame::encode_thread(&means[j], dims, scale);
-            let flat: Vec<f64> = encoded.iter().flatten().copied().collect();
-            planes.push(quantize(fabric, specs[j].clone(), &flat)?);
-        }
-        planes.extend(masking_planes.iter().cloned());
-        let table = Table::new(Layout::ThreadFrame, resolution, fabric, Some(scale), planes)
-            .map_err(BakeError::Internal)?;
-        let error = measure(&table, fabric, SCALE_SELECTION_PAIRS);
-        let worst = |e: &TableError| e.uniform.relative_rms.max(e.highlight.relative_rms);
-        if best.as_ref().is_none_or(|(_, e)| worst(&error) < worst(e)) {
-            best = Some((table, error));
-        }
+    for (j, thread) in geometry.threads.iter().enumerate() {
+        let values = thread_frame::bake_masking(fabric, thread, j);
+        planes.push(quantize(fabric, specs[2 + j].clone(), &values)?);
     }
-    best.ok_or_else(|| BakeError::Internal("no reflection scale baked".into()))
+    Table::new(Layout::ThreadFrame, resolution, fabric, planes).map_err(BakeError::Internal)
 }

@@ -8,7 +8,6 @@
 //! | `clothbake_version` | the clothbake version that baked it |
 //! | `layout` | layout name (`grid4d`, `thread_frame`) |
 //! | `resolution` | layout resolution |
-//! | `reflection_scale` | `thread_frame` only: `sqrt_masking` or `masking` |
 //! | `integration` | the integration rule of every texel |
 //! | `[[fabric]]` | the fabric, in the fabric-file schema (options included) |
 //! | `hash` | SHA-256 (hex) of this document's TOML without the `hash` line |
@@ -21,7 +20,7 @@
 //! Writing is atomic: a temporary file beside the target, synced, then renamed over it.
 
 use crate::model::Fabric;
-use crate::table::{Layout, Plane, ReflectionScale, Table};
+use crate::table::{Layout, Plane, Table};
 use exr::prelude::*;
 use half::f16;
 use sha2::{Digest, Sha256};
@@ -79,25 +78,17 @@ struct Provenance {
     clothbake_version: String,
     layout: String,
     resolution: u32,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    reflection_scale: Option<ReflectionScale>,
     integration: String,
     fabric: Vec<Fabric>,
 }
 
 impl Provenance {
-    fn new(
-        fabric: &Fabric,
-        layout: Layout,
-        resolution: u32,
-        reflection_scale: Option<ReflectionScale>,
-    ) -> Self {
+    fn new(fabric: &Fabric, layout: Layout, resolution: u32) -> Self {
         let mut provenance = Self {
             hash: String::new(),
             clothbake_version: env!("CARGO_PKG_VERSION").to_string(),
             layout: layout.name().to_string(),
             resolution,
-            reflection_scale,
             integration: integration(layout).to_string(),
             fabric: vec![fabric.clone()],
         };
@@ -105,12 +96,10 @@ impl Provenance {
         provenance
     }
 
-    /// SHA-256 of the TOML of every field but `hash` and `reflection_scale` (which the bake
-    /// chooses, so it cannot be known before baking).
+    /// SHA-256 of the TOML of every field but `hash`.
     fn content_hash(&self) -> String {
         let unhashed = Self {
             hash: String::new(),
-            reflection_scale: None,
             ..self.clone()
         };
         let text = toml::to_string(&unhashed).expect("provenance serialises to TOML");
@@ -124,7 +113,7 @@ impl Provenance {
 /// The hash a table of `fabric` at `layout`/`resolution` baked by this version carries:
 /// what the bake manifest compares to skip unchanged fabrics.
 pub fn expected_hash(fabric: &Fabric, layout: Layout, resolution: u32) -> String {
-    Provenance::new(fabric, layout, resolution, None).hash
+    Provenance::new(fabric, layout, resolution).hash
 }
 
 /// Writes `table` to `path` atomically; returns its provenance hash.
@@ -133,12 +122,7 @@ pub fn write_table(path: &Path, table: &Table) -> std::result::Result<String, Ta
         path: path.to_path_buf(),
         source,
     };
-    let provenance = Provenance::new(
-        &table.fabric,
-        table.layout,
-        table.resolution,
-        table.reflection_scale,
-    );
+    let provenance = Provenance::new(&table.fabric, table.layout, table.resolution);
     let provenance_toml = toml::to_string(&provenance).expect("provenance serialises to TOML");
     let layers: Vec<Layer<AnyChannels<FlatSamples>>> = table
         .planes()
@@ -376,14 +360,7 @@ pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError>
         }
         planes.push(Plane { spec, data });
     }
-    let table = Table::new(
-        layout,
-        resolution,
-        fabric,
-        provenance.reflection_scale,
-        planes,
-    )
-    .map_err(invalid)?;
+    let table = Table::new(layout, resolution, fabric, planes).map_err(invalid)?;
     Ok(TableFile {
         table,
         version: provenance.clothbake_version.clone(),

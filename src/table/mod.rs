@@ -19,7 +19,6 @@ use crate::model::Fabric;
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::fmt;
-pub use thread_frame::ReflectionScale;
 
 /// A table layout, selectable with `--layout`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -49,13 +48,13 @@ impl Layout {
     pub fn default_resolution(self) -> u32 {
         match self {
             Layout::Grid4d => 16,
-            Layout::ThreadFrame => 40,
+            Layout::ThreadFrame => 48,
         }
     }
 
     /// Largest resolution accepted: bounds what a table file can make a reader allocate
-    /// (grid4d: 64⁴ texels × 3 channels × 2 bytes = 96 MiB; thread_frame: the per-thread
-    /// texel budget holds whatever the resolution).
+    /// (grid4d: 64⁴ texels × 3 channels × 2 bytes = 96 MiB; thread_frame at 96: at most
+    /// 32 βH slices of 96 × 28 × 80 texels, 26 MiB).
     pub fn max_resolution(self) -> u32 {
         match self {
             Layout::Grid4d => 64,
@@ -67,7 +66,7 @@ impl Layout {
     pub fn resolution_ladder(self) -> Vec<u32> {
         match self {
             Layout::Grid4d => vec![8, 12, 16, 24, 32, 48, 64],
-            Layout::ThreadFrame => vec![16, 24, 32, 40, 48, 64],
+            Layout::ThreadFrame => vec![16, 24, 32, 40, 48],
         }
     }
 
@@ -75,10 +74,7 @@ impl Layout {
     pub fn plane_specs(self, fabric: &Fabric, resolution: u32) -> Vec<PlaneSpec> {
         match self {
             Layout::Grid4d => vec![grid4d::spec(resolution)],
-            Layout::ThreadFrame => {
-                thread_frame::Geometry::new(fabric, resolution, ReflectionScale::SqrtMasking)
-                    .specs()
-            }
+            Layout::ThreadFrame => thread_frame::Geometry::new(fabric, resolution).specs(),
         }
     }
 
@@ -170,8 +166,6 @@ pub struct Table {
     pub layout: Layout,
     pub resolution: u32,
     pub fabric: Fabric,
-    /// The reflection channel's scale (thread_frame only).
-    pub reflection_scale: Option<ReflectionScale>,
     planes: Vec<Plane>,
     geometry: Geometry,
     albedo: [DVec3; 2],
@@ -183,18 +177,12 @@ impl Table {
         layout: Layout,
         resolution: u32,
         fabric: &Fabric,
-        reflection_scale: Option<ReflectionScale>,
         planes: Vec<Plane>,
     ) -> Result<Self, String> {
-        let geometry = match (layout, reflection_scale) {
-            (Layout::Grid4d, None) => Geometry::Grid4d,
-            (Layout::ThreadFrame, Some(scale)) => Geometry::ThreadFrame(Box::new(
-                thread_frame::Geometry::new(fabric, resolution, scale),
-            )),
-            (layout, scale) => {
-                return Err(format!(
-                    "layout {layout} does not take reflection scale {scale:?}"
-                ));
+        let geometry = match layout {
+            Layout::Grid4d => Geometry::Grid4d,
+            Layout::ThreadFrame => {
+                Geometry::ThreadFrame(Box::new(thread_frame::Geometry::new(fabric, resolution)))
             }
         };
         let specs = layout.plane_specs(fabric, resolution);
@@ -220,7 +208,6 @@ impl Table {
             layout,
             resolution,
             fabric: fabric.clone(),
-            reflection_scale,
             planes,
             geometry,
             albedo,

@@ -11,33 +11,35 @@
 //!
 //! | axis | value | range | texels |
 //! |---|---|---|---|
-//! | 0 | βH | [−90°, 90°], piecewise linear: 70% of the texels on the band [−α_max − 4σs, −α_min + 4σs] where the curve's ridges lie | 2 per σs over the band (at least 16, capped by the texel budget) |
-//! | 1 | θd' = asin(½(wi·t' − wo·t')) | [−L, L], L = 90° − 1e-4 rad, `Warp::SinEnds` k = 1.4 (denser towards grazing) | 0.6·R |
-//! | 2 | φi' = atan2(wi·b, wi·n'), folded to [0°, 180°] | linear | R/2 |
-//! | 3 | φo' = atan2(wo·b, wo·n'), negated with the fold | periodic over [−180°, 180°) | R |
+//! | 0 | βH | [−90°, 90°], piecewise linear: 70% of the texels on the band [−α_max − 4σs, −α_min + 4σs] where the curve's ridges lie | 3 per σs over the band (at least 16), both threads scaled down together to keep the table within 16 MiB |
+//! | 1 | θd' = asin s, s = ½(wi·t' − wo·t') | [−L, L], L = 90° − 1e-4 rad, `Warp::SinEnds` k = 1.4 (denser towards grazing) | R |
+//! | 2 | u = (φi' + φo')/2 | [0°, 90°], linear | 0.29·R |
+//! | 3 | v = (φi' − φo')/2 | [−90°, 90°], linear | 0.83·R |
 //!
-//! R is the table's `resolution`. The fold uses the exact symmetry b → −b of each sample
-//! (both φ' change sign). Texel centres follow [`super::axis`]. Texels whose directions
-//! fall below the horizon are baked with the same formula, so the stored function continues
-//! smoothly past the domain edge instead of dropping to 0.
+//! with φi' = atan2(wi·b, wi·n'), φo' = atan2(wo·b, wo·n'). R is the table's `resolution`.
+//! Since n' is the direction of h's projection, cos φi' + cos φo' = 2 cos u cos v ≥ 0, so
+//! every pair lies in the square |u|, |v| ≤ 90°; the exact symmetry b → −b of each sample
+//! (u, v) → (−u, −v) folds it to u ≥ 0. Texel centres follow [`super::axis`]. Texels whose
+//! directions fall below the horizon are baked with the same formula, so the stored
+//! function continues smoothly past the domain edge instead of dropping to 0.
 //!
 //! # Channels and lookup
-//! The 4D table of thread j stores `reflection = R_j/√⟨P⟩_j` (or `R_j/⟨P⟩_j`, recorded per
-//! table as `reflection_scale`) and `transmission = T_j/⟨P⟩_j`, where R_j, T_j, ⟨P⟩_j are
-//! the thread's curve means ([`crate::model::ThreadMeans`]). Dividing by ⟨P⟩ keeps F a
-//! ⟨P⟩-weighted mean of bounded ratios where Q → 0 near the horizon; R/⟨P⟩ grows without
-//! bound at grazing forward scattering, so R is by default divided by √⟨P⟩ only. Texels with
-//! ⟨P⟩ < 1e-3 hold no reliable ratio and are filled from their neighbours.
+//! The 4D table of thread j stores `reflection = R_j·cos²θd'/⟨P⟩_j` and
+//! `transmission = T_j/⟨P⟩_j`, where R_j, T_j, ⟨P⟩_j are the thread's curve means
+//! ([`crate::model::ThreadMeans`]). Dividing by ⟨P⟩ makes F a ⟨P⟩-weighted mean of bounded
+//! ratios where Q → 0 near the horizon; R/⟨P⟩ alone grows like 1/cos²θd' at grazing forward
+//! scattering, which the cos²θd' factor (exactly `1 − s²`, known at lookup) takes out.
+//! Texels with ⟨P⟩ < 1e-3 hold no reliable ratio and are filled from their neighbours.
 //!
 //! ⟨P⟩_j depends only on the angles `β = atan2(w·t0, w·z)` of wi and wo in the t0–z plane,
-//! and is stored exactly enough in a 129×129 table over (βi, βo) ∈ [−90°, 90°]², clamped,
-//! texel i at `−90° + 180°·i/128`, bilinear.
+//! and is stored in a 129×129 table over (βi, βo) ∈ [−90°, 90°]², clamped, texel i at
+//! `−90° + 180°·i/128`, bilinear.
 //!
 //! A lookup for thread j: the four coordinates, a quadrilinear interpolation of the 4D table
 //! (on a GPU: axes 0, 1, 3 by hardware filtering of a 3D texture, axis 2 by a manual blend of
 //! two layers), and ⟨P⟩_j bilinearly from its 2D table; then
-//! `Q = a1⟨P⟩_1 + a2⟨P⟩_2 + (1 − a1 − a2)·wo.z` and
-//! `F = Σ_j a_j (R_j + A_j T_j) / Q`.
+//! `R_j = reflection·⟨P⟩_j / max(1 − s², 1e-8)`, `T_j = transmission·⟨P⟩_j`,
+//! `Q = a1⟨P⟩_1 + a2⟨P⟩_2 + (1 − a1 − a2)·wo.z` and `F = Σ_j a_j (R_j + A_j T_j) / Q`.
 //!
 //! # Planes (EXR layers)
 //! `thread1`, `thread2`: channels `reflection`, `transmission`; width = axis-0 texels,
@@ -48,29 +50,18 @@ use super::axis::{Axis, Warp};
 use super::{Plane, PlaneSpec, quadrilinear_corners};
 use crate::model::{Fabric, Integration, patch::ThreadModel};
 use glam::DVec3;
-use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Texels of the ⟨P⟩ table per axis.
 pub const MASKING_TEXELS: usize = 129;
-/// Budget of 4D texels per thread: two f16 channels per texel keeps a fabric (two threads)
-/// within 16 MiB.
-pub const MAX_TEXELS_PER_THREAD: usize = 2_000_000;
+/// Bytes of texel data a table may use: the βH axes of both threads shrink together to fit.
+pub const BYTE_BUDGET: usize = 16 << 20;
 /// ⟨P⟩ below which a texel's ratio is not stored but filled from its neighbours.
 pub const MASKING_FLOOR: f64 = 1e-3;
 const BETA_FOCUS: f64 = 0.7;
-const BETA_TEXELS_PER_SIGMA: f64 = 2.0;
+const BETA_TEXELS_PER_SIGMA: f64 = 3.0;
+const MIN_BETA_TEXELS: usize = 16;
 const THETA_WARP_K: f64 = 1.4;
-
-/// What the reflection channel is divided by.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ReflectionScale {
-    /// `R/√⟨P⟩`: bounded at grazing forward scattering.
-    SqrtMasking,
-    /// `R/⟨P⟩`: best where Q → 0 dominates (velvet).
-    Masking,
-}
 
 /// One thread's lookup geometry.
 #[derive(Clone, Debug, PartialEq)]
@@ -89,33 +80,65 @@ fn thread_frame_of(index: usize) -> (DVec3, DVec3) {
     }
 }
 
+/// The band of βH where thread `index`'s ridges lie, and its σs (radians).
+fn ridge_band(fabric: &Fabric, index: usize) -> (f64, f64, f64) {
+    let thread = fabric.threads()[index];
+    let sigma_s = fabric
+        .options
+        .lobe_sigma_deg(thread.gamma_s_deg)
+        .to_radians();
+    let offsets = &thread.offsets_deg;
+    let alpha_min = offsets
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+        .to_radians();
+    let alpha_max = offsets
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max)
+        .to_radians();
+    let lo = (-alpha_max - 4.0 * sigma_s).max(-FRAC_PI_2);
+    let hi = (-alpha_min + 4.0 * sigma_s).min(FRAC_PI_2);
+    (lo, hi, sigma_s)
+}
+
+/// Texels of the non-βH axes (θd', u, v) at `resolution`.
+fn inner_texels(resolution: u32) -> [usize; 3] {
+    let r = resolution as f64;
+    [
+        (resolution as usize).max(4),
+        ((0.29 * r).round() as usize).max(3),
+        ((0.83 * r).round() as usize).max(4),
+    ]
+}
+
+/// βH texels of both threads: 3 per σs on each ridge band, scaled down together (to at
+/// least 16 each) when the table would exceed [`BYTE_BUDGET`].
+fn beta_texels(fabric: &Fabric, resolution: u32) -> [usize; 2] {
+    let wanted = [0, 1].map(|j| {
+        let (lo, hi, sigma_s) = ridge_band(fabric, j);
+        (((hi - lo) / sigma_s * BETA_TEXELS_PER_SIGMA / BETA_FOCUS).ceil() as usize)
+            .max(MIN_BETA_TEXELS)
+    });
+    let slice_bytes: usize = inner_texels(resolution).iter().product::<usize>() * 2 * 2;
+    let masking_bytes = 2 * MASKING_TEXELS * MASKING_TEXELS * 2;
+    let available = BYTE_BUDGET.saturating_sub(masking_bytes) / slice_bytes;
+    let total = wanted[0] + wanted[1];
+    if total <= available {
+        return wanted;
+    }
+    let scale = available as f64 / total as f64;
+    wanted.map(|n| ((n as f64 * scale).floor() as usize).max(MIN_BETA_TEXELS))
+}
+
 impl ThreadGeometry {
     /// The axes of thread `index` of `fabric` at `resolution`.
     pub fn new(fabric: &Fabric, index: usize, resolution: u32) -> Self {
         let (t0, b) = thread_frame_of(index);
-        let thread = fabric.threads()[index];
-        let sigma_s = fabric
-            .options
-            .lobe_sigma_deg(thread.gamma_s_deg)
-            .to_radians();
-        let offsets = &thread.offsets_deg;
-        let alpha_min = offsets
-            .iter()
-            .copied()
-            .fold(f64::INFINITY, f64::min)
-            .to_radians();
-        let alpha_max = offsets
-            .iter()
-            .copied()
-            .fold(f64::NEG_INFINITY, f64::max)
-            .to_radians();
-        let r = resolution as usize;
-        let (n_theta, n_phi_i, n_phi_o) = (((r * 3) / 5).max(4), (r / 2).max(2), r.max(4));
-        let lo = (-alpha_max - 4.0 * sigma_s).max(-FRAC_PI_2);
-        let hi = (-alpha_min + 4.0 * sigma_s).min(FRAC_PI_2);
-        let band_texels = (hi - lo) / sigma_s * BETA_TEXELS_PER_SIGMA / BETA_FOCUS;
-        let cap = MAX_TEXELS_PER_THREAD / (n_theta * n_phi_i * n_phi_o);
-        let n_beta = (band_texels.ceil() as usize).clamp(16, cap.max(16));
+        let (lo, hi, _) = ridge_band(fabric, index);
+        let n_beta = beta_texels(fabric, resolution)[index];
+        let [n_theta, n_u, n_v] = inner_texels(resolution);
         let beta = if hi - lo > 0.9 * PI {
             Axis::clamped(
                 n_beta,
@@ -155,8 +178,20 @@ impl ThreadGeometry {
                         k: THETA_WARP_K,
                     },
                 ),
-                Axis::clamped(n_phi_i, Warp::Linear { lo: 0.0, hi: PI }),
-                Axis::periodic(n_phi_o, -PI, PI),
+                Axis::clamped(
+                    n_u,
+                    Warp::Linear {
+                        lo: 0.0,
+                        hi: FRAC_PI_2,
+                    },
+                ),
+                Axis::clamped(
+                    n_v,
+                    Warp::Linear {
+                        lo: -FRAC_PI_2,
+                        hi: FRAC_PI_2,
+                    },
+                ),
             ],
             masking_axis: Axis::clamped(
                 MASKING_TEXELS,
@@ -186,7 +221,7 @@ impl ThreadGeometry {
         ((i[2] * n[3] + i[3]) * n[1] + i[1]) * n[0] + i[0]
     }
 
-    /// The table coordinates (βH, θd', φi', φo') of a pair, folded to φi' ≥ 0.
+    /// The table coordinates (βH, θd', u, v) of a pair, folded to u ≥ 0.
     pub fn coordinates(&self, wi: DVec3, wo: DVec3) -> [f64; 4] {
         let h = wi + wo;
         let beta_h = h.dot(self.t0).atan2(h.z);
@@ -196,18 +231,19 @@ impl ThreadGeometry {
             .asin();
         let phi_i = wi.dot(self.b).atan2(wi.dot(n_res));
         let phi_o = wo.dot(self.b).atan2(wo.dot(n_res));
-        let sign = if phi_i < 0.0 { -1.0 } else { 1.0 };
-        [beta_h, theta_d, sign * phi_i, sign * phi_o]
+        let (u, v) = (0.5 * (phi_i + phi_o), 0.5 * (phi_i - phi_o));
+        let sign = if u < 0.0 { -1.0 } else { 1.0 };
+        [beta_h, theta_d, sign * u, sign * v]
     }
 
     /// The pair at table coordinates (the inverse of [`Self::coordinates`]).
-    pub fn directions(&self, [beta_h, theta_d, phi_i, phi_o]: [f64; 4]) -> (DVec3, DVec3) {
+    pub fn directions(&self, [beta_h, theta_d, u, v]: [f64; 4]) -> (DVec3, DVec3) {
         let (t_res, n_res) = self.resonant_frame(beta_h);
         let (sin_d, cos_d) = theta_d.sin_cos();
         let across = |phi: f64| cos_d * (phi.cos() * n_res + phi.sin() * self.b);
         (
-            sin_d * t_res + across(phi_i),
-            -sin_d * t_res + across(phi_o),
+            sin_d * t_res + across(u + v),
+            -sin_d * t_res + across(u - v),
         )
     }
 
@@ -230,16 +266,14 @@ pub struct Geometry {
     pub threads: [ThreadGeometry; 2],
     pub coverage: [f64; 2],
     pub gap: f64,
-    pub reflection_scale: ReflectionScale,
 }
 
 impl Geometry {
-    pub fn new(fabric: &Fabric, resolution: u32, reflection_scale: ReflectionScale) -> Self {
+    pub fn new(fabric: &Fabric, resolution: u32) -> Self {
         Self {
             threads: [0, 1].map(|j| ThreadGeometry::new(fabric, j, resolution)),
             coverage: [fabric.thread1.coverage, fabric.thread2.coverage],
             gap: (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0),
-            reflection_scale,
         }
     }
 
@@ -261,9 +295,9 @@ impl Geometry {
         specs
     }
 
-    /// Thread `j`'s interpolated stored channels and masking at (wi, wo):
-    /// `[reflection, transmission, ⟨P⟩]` as the planes hold them (before rescaling).
-    pub fn sample_thread(&self, planes: &[Plane], j: usize, wi: DVec3, wo: DVec3) -> [f64; 3] {
+    /// Thread `j`'s interpolated stored channels, masking and cos²θd' at (wi, wo):
+    /// `[reflection, transmission, ⟨P⟩, cos²θd']` (channels as the planes hold them).
+    pub fn sample_thread(&self, planes: &[Plane], j: usize, wi: DVec3, wo: DVec3) -> [f64; 4] {
         let thread = &self.threads[j];
         let coordinates = thread.coordinates(wi, wo);
         let axes: [(usize, usize, f64); 4] =
@@ -281,7 +315,8 @@ impl Geometry {
             thread.beta(wo),
         )
         .max(0.0);
-        [r, t, masking]
+        let sin_d = coordinates[1].sin();
+        [r, t, masking, 1.0 - sin_d * sin_d]
     }
 
     /// The interpolated terms (reflection, transmission1, transmission2), already divided
@@ -291,12 +326,8 @@ impl Geometry {
         let mut transmission = [0.0; 2];
         let mut q = self.gap * wo.z;
         for (j, share) in transmission.iter_mut().enumerate() {
-            let [r, t, masking] = self.sample_thread(planes, j, wi, wo);
-            let r_scale = match self.reflection_scale {
-                ReflectionScale::SqrtMasking => masking.sqrt(),
-                ReflectionScale::Masking => masking,
-            };
-            reflection += self.coverage[j] * r * r_scale;
+            let [r, t, masking, cos2_d] = self.sample_thread(planes, j, wi, wo);
+            reflection += self.coverage[j] * r * masking / cos2_d.max(1e-8);
             *share = self.coverage[j] * t * masking;
             q += self.coverage[j] * masking;
         }
@@ -372,27 +403,23 @@ pub fn bake_masking(fabric: &Fabric, geometry: &ThreadGeometry, index: usize) ->
         .collect()
 }
 
-/// Stored channels of one thread from its curve means: (R/scale, T/⟨P⟩), with texels of
-/// ⟨P⟩ below [`MASKING_FLOOR`] filled from their neighbours.
-pub fn encode_thread(
-    means: &[[f64; 3]],
-    dims: [usize; 4],
-    scale: ReflectionScale,
-) -> Vec<[f64; 2]> {
+/// Stored channels of one thread from its curve means and the θd' of each texel:
+/// (R·cos²θd'/⟨P⟩, T/⟨P⟩), with texels of ⟨P⟩ below [`MASKING_FLOOR`] filled from their
+/// neighbours.
+pub fn encode_thread(means: &[[f64; 3]], geometry: &ThreadGeometry) -> Vec<[f64; 2]> {
+    let n = geometry.axes.map(|a| a.texels);
     let mut data: Vec<[f64; 2]> = means
         .iter()
-        .map(|&[r, t, p]| {
+        .enumerate()
+        .map(|(k, &[r, t, p])| {
             if p < MASKING_FLOOR {
                 return [f64::NAN; 2];
             }
-            let r_scale = match scale {
-                ReflectionScale::SqrtMasking => p.sqrt(),
-                ReflectionScale::Masking => p,
-            };
-            [r / r_scale, t / p]
+            let theta_d = geometry.axes[1].texel_value((k / n[0]) % n[1]);
+            [r * theta_d.cos().powi(2) / p, t / p]
         })
         .collect();
-    fill_undefined(&mut data, dims);
+    fill_undefined(&mut data, plane_dims(geometry));
     data
 }
 
