@@ -110,6 +110,27 @@ fn up_to_date(
 /// Makes the per-row callback of one bake from (fabric name, resolution, rows).
 pub type ProgressFactory = dyn Fn(&str, u32, u64) -> Box<dyn Fn() + Sync>;
 
+/// Removes temporaries that an interrupted bake of `file_name` left in `directory`
+/// (`.NAME.exr.PID.tmp` of another process).
+fn remove_stale_temporaries(directory: &Path, file_name: &str) {
+    let prefix = format!(".{file_name}.");
+    let ours = format!("{prefix}{}.tmp", std::process::id());
+    let Ok(entries) = std::fs::read_dir(directory) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let pid = name
+            .strip_prefix(&prefix)
+            .and_then(|rest| rest.strip_suffix(".tmp"));
+        if pid.is_some_and(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()))
+            && name != ours
+        {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
 /// Runs `job`; `progress(fabric, resolution, rows)` returns the per-row callback of one bake.
 pub fn run(
     job: &BakeJob,
@@ -124,6 +145,7 @@ pub fn run(
     let layout = job.layout;
     for fabric in &job.fabrics {
         let path = job.out.join(format!("{}.exr", fabric.name));
+        remove_stale_temporaries(&job.out, &format!("{}.exr", fabric.name));
         if !job.force {
             if let Some(entry) = up_to_date(&manifest, &path, fabric, layout, job.resolution) {
                 on_outcome(fabric, &Outcome::UpToDate { path, entry });

@@ -3,7 +3,8 @@
 //!
 //! - [`model`]: the physics of MODEL.md, pure maths.
 //! - [`table`]: table layouts and the lookup that GPU shaders mirror.
-//! - [`bake`]: integrates the model into a table (rayon).
+//! - [`bake`]: integrates the model into a table (rayon); [`bake_job`]: the `bake` command's
+//!   choice of resolution, manifest and files.
 //! - [`table_file`]: tables as EXR files, written atomically, read as untrusted input.
 //! - [`accuracy`]: a table's error against the direct evaluation.
 //! - [`scene`], [`manifest`]: what a scene needs baked, and what was baked from what.
