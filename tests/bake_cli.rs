@@ -253,6 +253,26 @@ fn interrupted_bake_leaves_the_previous_table_loadable() {
         "{kills} of {} bakes killed before they finished",
         delays.len()
     );
+    // The next bake clears the temporaries the killed ones left behind.
+    let last = clothbake(&[
+        "bake",
+        "--fabric",
+        "polyester_satin_charmeuse",
+        "--force",
+        "--layout",
+        "grid4d",
+        "--resolution",
+        "4",
+        "--out",
+        out,
+    ]);
+    assert!(last.status.success(), "{}", text(&last));
+    let stray: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect();
+    assert!(stray.is_empty(), "{stray:?}");
     assert!(
         kills >= 2,
         "bakes finished too fast to be interrupted: {kills} killed"
