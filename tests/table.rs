@@ -337,3 +337,29 @@ fn wrong_channels_dimensions_attributes_and_nan_texels_are_rejected() {
     ));
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A header claiming an absurd data window is rejected before anything is sized by it.
+#[test]
+fn absurd_header_dimensions_are_rejected_without_allocating() {
+    let dir = temp_dir("absurd");
+    let path = dir.join("absurd.exr");
+    write_table(&path, &small_table("velvet", 4)).unwrap();
+    let mut bytes = std::fs::read(&path).unwrap();
+    let key = b"dataWindow\0box2i\0";
+    let at = bytes
+        .windows(key.len())
+        .position(|w| w == key)
+        .expect("a dataWindow attribute")
+        + key.len()
+        + 4;
+    for (offset, value) in [(8, 0x3fff_0000i32), (12, 0x3fff_0000i32)] {
+        bytes[at + offset..at + offset + 4].copy_from_slice(&value.to_le_bytes());
+    }
+    std::fs::write(&path, &bytes).unwrap();
+    let message = read_table(&path)
+        .expect_err("absurd window accepted")
+        .to_string();
+    println!("{message}");
+    assert!(message.contains("absurd.exr"), "{message}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
