@@ -386,10 +386,11 @@ pub fn bake_thread_means(
 }
 
 /// The masking plane of one thread: ⟨P⟩ at (βi, βo) for directions in the t0–z plane
-/// (⟨P⟩ depends on nothing else).
+/// (⟨P⟩ depends on nothing else), with the baking rule: ⟨P⟩ is smooth in α, and the rule's
+/// 3e-4 bound on F holds for it too.
 pub fn bake_masking(fabric: &Fabric, geometry: &ThreadGeometry, index: usize) -> Vec<f64> {
     use rayon::prelude::*;
-    let model = ThreadModel::new(fabric, index, Integration::Direct);
+    let model = ThreadModel::new(fabric, index, Integration::Baking);
     let axis = geometry.masking_axis;
     let in_plane = |beta: f64| beta.sin() * geometry.t0 + beta.cos() * DVec3::Z;
     (0..axis.texels * axis.texels)
