@@ -427,8 +427,17 @@ pub fn encode_thread(means: &[[f64; 3]], geometry: &ThreadGeometry) -> Vec<[f64;
 /// Replaces NaN texels by the mean of their defined axis neighbours, sweep after sweep, so
 /// the stored function continues smoothly into texels where it is undefined. `dims` are the
 /// texel counts in plane order (fastest first: axis 0, axis 1, axis 3, axis 2).
+///
+/// Across u = 0 the table is glued to itself by the fold (u, v) → (−u, −v): the neighbour
+/// of texel (u = 0, v) below u = 0 is the texel (u₁, −v). Using it keeps the filled u = 0
+/// slice symmetric in v, as the function is, so lookups do not jump across the fold.
 fn fill_undefined(data: &mut [[f64; 2]], dims: [usize; 4]) {
     let strides = [1, dims[0], dims[0] * dims[1], dims[0] * dims[1] * dims[2]];
+    let folded_neighbour = |k: usize| {
+        let i_v = (k / strides[2]) % dims[2];
+        let mirrored_v = dims[2] - 1 - i_v;
+        (dims[3] > 1).then(|| k + strides[3] + mirrored_v * strides[2] - i_v * strides[2])
+    };
     for c in 0..2 {
         let mut pending: Vec<usize> = (0..data.len()).filter(|&k| data[k][c].is_nan()).collect();
         while !pending.is_empty() {
@@ -438,11 +447,16 @@ fn fill_undefined(data: &mut [[f64; 2]], dims: [usize; 4]) {
                 let (mut sum, mut count) = (0.0, 0);
                 for a in 0..4 {
                     let i = (k / strides[a]) % dims[a];
-                    for (exists, neighbour) in [
-                        (i > 0, k.wrapping_sub(strides[a])),
-                        (i + 1 < dims[a], k + strides[a]),
-                    ] {
-                        if exists && !data[neighbour][c].is_nan() {
+                    let below = if i > 0 {
+                        Some(k - strides[a])
+                    } else if a == 3 {
+                        folded_neighbour(k)
+                    } else {
+                        None
+                    };
+                    let above = (i + 1 < dims[a]).then(|| k + strides[a]);
+                    for neighbour in [below, above].into_iter().flatten() {
+                        if !data[neighbour][c].is_nan() {
                             sum += data[neighbour][c];
                             count += 1;
                         }
