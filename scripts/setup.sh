@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs what clothbake needs on a fresh Debian machine, then runs the given command:
+#   scripts/setup.sh cargo run --release -- bake
+#   scripts/setup.sh cargo test --release --locked
+#
+# - Rust (rustup, minimal profile) when cargo is missing;
+# - Mesa's lavapipe Vulkan driver (mesa-vulkan-drivers, libvulkan1) so that wgpu finds an
+#   adapter without a GPU; installing it also upgrades the Mesa packages already present,
+#   which must match;
+# - Xvfb, an X server without a display, for the `clothbake view` window test.
+# Packages already installed are left alone, so a second run costs nothing.
+set -euo pipefail
+
+packages=(mesa-vulkan-drivers libvulkan1 xvfb xauth ca-certificates curl)
+missing=()
+for package in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
+        missing+=("$package")
+done
+if ((${#missing[@]})); then
+    sudo=()
+    [[ $(id -u) -ne 0 ]] && sudo=(sudo)
+    echo "setup: installing ${missing[*]}" >&2
+    "${sudo[@]}" apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends \
+        "${missing[@]}" >&2
+fi
+
+if ! command -v cargo >/dev/null; then
+    if [[ ! -x $HOME/.cargo/bin/cargo ]]; then
+        echo "setup: installing Rust with rustup" >&2
+        curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs |
+            sh -s -- -y --profile minimal --no-modify-path >&2
+    fi
+    export PATH="$HOME/.cargo/bin:$PATH"
+fi
+
+# Vulkan loaders warn without a runtime directory; the value does not matter headless.
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+exec "$@"
