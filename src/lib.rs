@@ -5,6 +5,7 @@
 //! - [`table`]: table layouts and the lookup that GPU shaders mirror.
 //! - [`bake`]: integrates the model into a table (rayon); [`bake_job`]: the `bake` command's
 //!   choice of resolution, manifest and files.
+//! - [`gpu`]: the wgpu runtime core: a device, tables and the direct model as GPU BRDFs.
 //! - [`table_file`]: tables as EXR files, written atomically, read as untrusted input.
 //! - [`accuracy`]: a table's error against the direct evaluation.
 //! - [`scene`], [`manifest`]: what a scene needs baked, and what was baked from what.
@@ -18,6 +19,7 @@ pub mod bake_job;
 pub mod direction_sets;
 pub mod eval_stream;
 pub mod fabric_file;
+pub mod gpu;
 pub mod manifest;
 pub mod model;
 pub mod scene;

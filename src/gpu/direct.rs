@@ -1,0 +1,278 @@
+//! [`GpuDirect`]: the model of MODEL.md evaluated in the shader (`shaders/direct.wgsl`) in
+//! f32, in paper mode: N stratified tangent samples per thread, the same nodes and weights as
+//! the CPU's `Patch::new(fabric, Integration::Paper(N))`.
+
+use super::{GpuBrdf, GpuContext, GpuError, brdf_entry};
+use crate::model::curve::{Integration, curve_pieces};
+use crate::model::patch::DEGENERATE_PROJECTION;
+use crate::model::{Fabric, Thread};
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+/// The direct-evaluation shader (defines `cloth_brdf`).
+pub const DIRECT_WGSL: &str = include_str!("../../shaders/direct.wgsl");
+
+/// Most tangent samples per thread [`GpuDirect::new`] accepts: the per-pair cost grows
+/// linearly with N, and far beyond the paper's handful of samples a table or the CPU's
+/// converged rule is the better tool.
+pub const MAX_SAMPLES: u32 = 1024;
+
+/// One thread family as `ClothDirectThread` of direct.wgsl reads it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DirectThread {
+    pub t0: [f32; 4],
+    pub b: [f32; 4],
+    pub albedo: [f32; 4],
+    /// Surface −1/(2σs²), 1/(σs√(2π)); volume −1/(2σv²), 1/(σv√(2π)) (σ in radians).
+    pub lobes: [f32; 4],
+    /// η, kd, coverage, 1 if η == 1 else 0.
+    pub material: [f32; 4],
+    /// First node, node count.
+    pub nodes: [u32; 4],
+}
+
+/// The uniform block of direct.wgsl (`ClothDirectParams`): both threads and `misc` =
+/// (−1/(2σu²), gap, degenerate-projection threshold, 0).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DirectParams {
+    pub threads: [DirectThread; 2],
+    pub misc: [f32; 4],
+}
+
+/// (−1/(2σ²), 1/(σ√(2π))) of the unit-area Gaussian of standard deviation `sigma` (radians),
+/// as `UnitAreaGaussian::new` prepares it, rounded to f32.
+fn unit_area_gaussian(sigma: f64) -> [f32; 2] {
+    [
+        (-0.5 / (sigma * sigma)) as f32,
+        (1.0 / (sigma * (2.0 * std::f64::consts::PI).sqrt())) as f32,
+    ]
+}
+
+/// The largest f32 strictly below `DEGENERATE_PROJECTION`: for a length that is an f32,
+/// `length <= threshold` in the shader is exactly `length < DEGENERATE_PROJECTION` in f64.
+fn degenerate_threshold() -> f32 {
+    let t = DEGENERATE_PROJECTION as f32;
+    if (t as f64) < DEGENERATE_PROJECTION {
+        t
+    } else {
+        f32::from_bits(t.to_bits() - 1)
+    }
+}
+
+/// Paper-mode nodes of `thread` as (cos α, sin α, weight, 0), cos and sin computed in f64
+/// like the CPU's, then rounded.
+fn thread_nodes(fabric: &Fabric, thread: &Thread, samples: u32) -> Result<Vec<[f32; 4]>, GpuError> {
+    curve_pieces(thread, &fabric.options, Integration::Paper(samples))
+        .iter()
+        .map(|p| {
+            // Paper mode and the control-point option only make single-point pieces; an
+            // interval would need the clipping of the direct rule, which the shader lacks.
+            if p.start != p.end || p.count != 1 {
+                return Err(GpuError::Invalid {
+                    name: "tangent nodes".into(),
+                    message: format!("paper mode made an interval piece {p:?}"),
+                });
+            }
+            Ok([
+                p.start.cos() as f32,
+                p.start.sin() as f32,
+                p.weight as f32,
+                0.0,
+            ])
+        })
+        .collect()
+}
+
+/// The model evaluated directly in the shader with N tangent samples per thread (paper mode),
+/// a [`GpuBrdf`]. Bindings (group 0): 0 the uniform block [`DirectParams`], 1 a read-only
+/// storage buffer of the tangent nodes of both threads.
+pub struct GpuDirect {
+    samples: u32,
+    bind_group_layout: wgpu::BindGroupLayout,
+    bind_group: wgpu::BindGroup,
+}
+
+impl GpuDirect {
+    /// Prepares `fabric` for direct evaluation with `samples` = N tangent samples per thread
+    /// (`Integration::Paper(N)`), N in 1..=[`MAX_SAMPLES`]. Fails with
+    /// [`GpuError::Invalid`] for another N or an invalid fabric (see [`Fabric::validate`]).
+    pub fn new(context: &GpuContext, fabric: &Fabric, samples: u32) -> Result<Self, GpuError> {
+        if !(1..=MAX_SAMPLES).contains(&samples) {
+            return Err(GpuError::Invalid {
+                name: "tangent samples per thread".into(),
+                message: format!("must be within 1..={MAX_SAMPLES}, got {samples}"),
+            });
+        }
+        fabric.validate().map_err(|e| GpuError::Invalid {
+            name: "fabric".into(),
+            message: e.to_string(),
+        })?;
+        let (params, nodes) = Self::prepare(fabric, samples)?;
+        context.checked(|| Self::create(context, samples, &params, &nodes))
+    }
+
+    /// The uniform block and the node buffer contents for `fabric`, mirroring
+    /// `ThreadModel::new` and `Patch::new`.
+    pub fn prepare(
+        fabric: &Fabric,
+        samples: u32,
+    ) -> Result<(DirectParams, Vec<[f32; 4]>), GpuError> {
+        let options = fabric.options;
+        let mut nodes = Vec::new();
+        let mut threads = [DirectThread::default(); 2];
+        for (j, thread) in fabric.threads().into_iter().enumerate() {
+            let (t0, b) = if j == 0 {
+                ([1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0])
+            } else {
+                ([0.0, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0])
+            };
+            let sigma_s = options.lobe_sigma_deg(thread.gamma_s_deg).to_radians();
+            let sigma_v = options.lobe_sigma_deg(thread.gamma_v_deg).to_radians();
+            let [ks, ps] = unit_area_gaussian(sigma_s);
+            let [kv, pv] = unit_area_gaussian(sigma_v);
+            let [r, g, bl] = thread.albedo_rgb().map(|c| c as f32);
+            let thread_nodes = thread_nodes(fabric, thread, samples)?;
+            threads[j] = DirectThread {
+                t0,
+                b,
+                albedo: [r, g, bl, 0.0],
+                lobes: [ks, ps, kv, pv],
+                material: [
+                    thread.eta as f32,
+                    thread.kd as f32,
+                    thread.coverage as f32,
+                    if thread.eta == 1.0 { 1.0 } else { 0.0 },
+                ],
+                nodes: [nodes.len() as u32, thread_nodes.len() as u32, 0, 0],
+            };
+            nodes.extend(thread_nodes);
+        }
+        let sigma_u = options.sigma_u_deg.to_radians();
+        let gap = (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0);
+        let params = DirectParams {
+            threads,
+            misc: [
+                (-0.5 / (sigma_u * sigma_u)) as f32,
+                gap as f32,
+                degenerate_threshold(),
+                0.0,
+            ],
+        };
+        Ok((params, nodes))
+    }
+
+    fn create(
+        context: &GpuContext,
+        samples: u32,
+        params: &DirectParams,
+        nodes: &[[f32; 4]],
+    ) -> Self {
+        let device = &context.device;
+        let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("direct params"),
+            contents: bytemuck::bytes_of(params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let node_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("direct nodes"),
+            contents: bytemuck::cast_slice(nodes),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("direct"),
+            entries: &[
+                brdf_entry(
+                    0,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(
+                            std::mem::size_of::<DirectParams>() as u64,
+                        ),
+                    },
+                ),
+                brdf_entry(
+                    1,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(16),
+                    },
+                ),
+            ],
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("direct"),
+            layout: &bind_group_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: node_buffer.as_entire_binding(),
+                },
+            ],
+        });
+        Self {
+            samples,
+            bind_group_layout,
+            bind_group,
+        }
+    }
+}
+
+impl GpuBrdf for GpuDirect {
+    fn wgsl(&self) -> String {
+        DIRECT_WGSL.to_string()
+    }
+
+    fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.bind_group_layout
+    }
+
+    fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.bind_group
+    }
+
+    fn label(&self) -> String {
+        format!("direct paper N={}", self.samples)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fabric_file::FabricSet;
+
+    #[test]
+    fn uniform_sizes_match_wgsl() {
+        assert_eq!(std::mem::size_of::<DirectThread>(), 6 * 16);
+        assert_eq!(std::mem::size_of::<DirectParams>(), 2 * 6 * 16 + 16);
+    }
+
+    #[test]
+    fn threshold_is_the_f32_just_below_the_model_threshold() {
+        let t = degenerate_threshold();
+        assert!((t as f64) < DEGENERATE_PROJECTION);
+        assert!(f32::from_bits(t.to_bits() + 1) as f64 >= DEGENERATE_PROJECTION);
+    }
+
+    #[test]
+    fn nodes_are_the_paper_mode_nodes_with_unit_weight_per_thread() {
+        for fabric in FabricSet::builtin().fabrics() {
+            for n in [1, 8, 32] {
+                let (params, nodes) = GpuDirect::prepare(fabric, n).unwrap();
+                for thread in params.threads {
+                    let [first, count, _, _] = thread.nodes.map(|v| v as usize);
+                    assert!((1..=n as usize).contains(&count));
+                    let total: f32 = nodes[first..first + count].iter().map(|v| v[2]).sum();
+                    assert!((total - 1.0).abs() < 1e-6, "{}: {total}", fabric.name);
+                }
+            }
+        }
+    }
+}

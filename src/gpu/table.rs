@@ -1,0 +1,239 @@
+//! [`GpuTable`]: a baked table on the GPU, a [`GpuBrdf`] whose `cloth_brdf` is the table
+//! lookup of `shaders/lookup.wgsl` (mirroring [`Table::lookup`]).
+
+use super::{GpuBrdf, GpuContext, GpuError, brdf_entry, layout};
+use crate::table::{Geometry, Table};
+use wgpu::util::DeviceExt;
+
+/// The WGSL lookup, both layouts, without `cloth_brdf` (see [`GpuTable::wgsl`]).
+pub const LOOKUP_WGSL: &str = include_str!("../../shaders/lookup.wgsl");
+
+/// A table on the GPU: its textures and uniform block, bound in one bind group.
+///
+/// Bindings (group 0): 0 the uniform block [`layout::Params`], 3 a linear clamp-to-edge
+/// sampler; thread_frame: 4 and 5 the thread textures (3D), 6 the masking array texture;
+/// grid4d: 7 the grid array texture.
+pub struct GpuTable {
+    label: String,
+    /// Which `cloth_*_brdf` of lookup.wgsl `cloth_brdf` calls.
+    brdf_function: &'static str,
+    bind_group_layout: wgpu::BindGroupLayout,
+    bind_group: wgpu::BindGroup,
+}
+
+impl GpuTable {
+    /// Uploads `table` (see [`layout`] for the textures) and builds its bind group.
+    pub fn new(context: &GpuContext, table: &Table) -> Result<Self, GpuError> {
+        context.checked(|| Self::create(context, table))?
+    }
+
+    fn create(context: &GpuContext, table: &Table) -> Result<Self, GpuError> {
+        let device = &context.device;
+        let limits = device.limits();
+        let params = layout::Params::new(table);
+        let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("lookup params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let (brdf_function, views) = match table.geometry() {
+            Geometry::Grid4d => {
+                let data = layout::grid4d_texture(&table.planes()[0], table.resolution);
+                check_size(&data, wgpu::TextureDimension::D2, &limits)?;
+                let view = upload(context, "grid4d", &data, wgpu::TextureDimension::D2);
+                ("cloth_grid4d_brdf", vec![(7, view)])
+            }
+            Geometry::ThreadFrame(geometry) => {
+                let mut views = Vec::new();
+                for (j, thread) in geometry.threads.iter().enumerate() {
+                    let data = layout::thread_texture(&table.planes()[j], thread);
+                    check_size(&data, wgpu::TextureDimension::D3, &limits)?;
+                    let name = format!("thread{}", j + 1);
+                    let view = upload(context, &name, &data, wgpu::TextureDimension::D3);
+                    views.push((4 + j as u32, view));
+                }
+                let data = layout::masking_texture(&table.planes()[2..4]);
+                views.push((
+                    6,
+                    upload(context, "masking", &data, wgpu::TextureDimension::D2),
+                ));
+                ("cloth_thread_frame_brdf", views)
+            }
+        };
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("table sampler"),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            address_mode_w: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Nearest,
+            ..Default::default()
+        });
+
+        let mut layout_entries = vec![
+            brdf_entry(
+                0,
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: wgpu::BufferSize::new(
+                        std::mem::size_of::<layout::Params>() as u64
+                    ),
+                },
+            ),
+            brdf_entry(
+                3,
+                wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            ),
+        ];
+        layout_entries.extend(views.iter().map(|(binding, _)| {
+            let view_dimension = if (4..=5).contains(binding) {
+                wgpu::TextureViewDimension::D3
+            } else {
+                wgpu::TextureViewDimension::D2Array
+            };
+            brdf_entry(
+                *binding,
+                wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension,
+                    multisampled: false,
+                },
+            )
+        }));
+        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("lookup"),
+            entries: &layout_entries,
+        });
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniforms.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::Sampler(&sampler),
+            },
+        ];
+        entries.extend(views.iter().map(|(binding, view)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        }));
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("lookup"),
+            layout: &bind_group_layout,
+            entries: &entries,
+        });
+        Ok(Self {
+            label: format!("lookup {} R={}", table.layout, table.resolution),
+            brdf_function,
+            bind_group_layout,
+            bind_group,
+        })
+    }
+}
+
+impl GpuBrdf for GpuTable {
+    /// lookup.wgsl plus a `cloth_brdf` calling this table's layout's lookup, so that only
+    /// the bindings of that layout are used.
+    fn wgsl(&self) -> String {
+        format!(
+            "{LOOKUP_WGSL}\n// F(wi, wo) by this table's layout (appended by GpuTable::wgsl).\n\
+             fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {{\n    \
+             return {}(wi, wo);\n}}\n",
+            self.brdf_function
+        )
+    }
+
+    fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.bind_group_layout
+    }
+
+    fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.bind_group
+    }
+
+    fn label(&self) -> String {
+        self.label.clone()
+    }
+}
+
+/// Fails with [`GpuError::Limits`] when the texture exceeds the device's limits.
+fn check_size(
+    data: &layout::TextureData,
+    dimension: wgpu::TextureDimension,
+    limits: &wgpu::Limits,
+) -> Result<(), GpuError> {
+    let [w, h, d] = data.size;
+    let fits = match dimension {
+        wgpu::TextureDimension::D3 => w.max(h).max(d) <= limits.max_texture_dimension_3d,
+        _ => w.max(h) <= limits.max_texture_dimension_2d && d <= limits.max_texture_array_layers,
+    };
+    if fits {
+        Ok(())
+    } else {
+        Err(GpuError::Limits(format!(
+            "{dimension:?} texture of {w}×{h}×{d} texels; the device allows {} (3D), {} (2D), \
+             {} array layers",
+            limits.max_texture_dimension_3d,
+            limits.max_texture_dimension_2d,
+            limits.max_texture_array_layers
+        )))
+    }
+}
+
+/// Creates a filterable f16 texture (R16Float, Rg16Float or Rgba16Float by channel count)
+/// holding `data`, and its view (3D, or 2D array over the depth).
+fn upload(
+    context: &GpuContext,
+    name: &str,
+    data: &layout::TextureData,
+    dimension: wgpu::TextureDimension,
+) -> wgpu::TextureView {
+    let format = match data.channels {
+        1 => wgpu::TextureFormat::R16Float,
+        2 => wgpu::TextureFormat::Rg16Float,
+        _ => wgpu::TextureFormat::Rgba16Float,
+    };
+    let [width, height, depth] = data.size;
+    let size = wgpu::Extent3d {
+        width,
+        height,
+        depth_or_array_layers: depth,
+    };
+    let texture = context.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(name),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let bits: Vec<u16> = data.texels.iter().map(|t| t.to_bits()).collect();
+    context.queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: &texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        bytemuck::cast_slice(&bits),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(width * data.channels * 2),
+            rows_per_image: Some(height),
+        },
+        size,
+    );
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some(name),
+        dimension: Some(match dimension {
+            wgpu::TextureDimension::D3 => wgpu::TextureViewDimension::D3,
+            _ => wgpu::TextureViewDimension::D2Array,
+        }),
+        ..Default::default()
+    })
+}

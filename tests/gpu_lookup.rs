@@ -1,0 +1,291 @@
+//! The GPU lookup (`shaders/lookup.wgsl` as a `GpuBrdf`, through `clothbake::gpu::evaluate_pairs`) against the CPU lookup
+//! `Table::lookup`, on small baked tables of both layouts and seeded direction pairs.
+//!
+//! Needs a wgpu adapter; without a GPU, Mesa's lavapipe (`apt-get install -y
+//! mesa-vulkan-drivers libvulkan1`). No adapter is a failure, not a skip.
+//!
+//! # The bound
+//! Both sides read the same f16 texels (the upload is lossless) and interpolate the same
+//! corners with the same weights, so the differences come from two sources:
+//! 1. Hardware filtering quantises each filter weight: lavapipe (like most GPUs) computes
+//!    them in 8-bit fixed point, so a weight is off by at most δ = 1/256. On one filtered
+//!    axis this moves the result by at most δ·|difference across that axis| ≤ δ·(range of
+//!    the corners); over k filtered axes by k·δ·range. thread_frame filters 3 axes of the 4D
+//!    table (βH, θd', v; u is blended in f32 by the shader) and 2 of ⟨P⟩; grid4d filters
+//!    the 2 wo axes (the wi blend is in f32).
+//! 2. f32 arithmetic: the coordinates (atan2, asin, the warps) carry errors of a few ulp,
+//!    which shift every interpolation weight by far less than ε = 1e-4 of a texel (so
+//!    ≤ ε·range per axis, 4 axes), cos²θd' = 1 − s² carries ~1e-7 absolute error (relative
+//!    1e-7/cos²θd' in reflection/cos²θd'), and the final sums ~1e-6 relative.
+//!
+//! For thread_frame, F = Σ_j a_j ⟨P⟩_j (r_j / c_j + A_j t_j) / Q with Q = Σ_j a_j ⟨P⟩_j +
+//! gap·wo.z is nonlinear in the interpolated r_j, t_j, ⟨P⟩_j, so the interpolation errors
+//! above are propagated to F with its partial derivatives (first order, evaluated at the
+//! CPU's values).
+//! 3. The fold u → |u| of `thread_frame` (u = (φi' + φo')/2, see its module doc): pairs with
+//!    u within f32 error of 0 (highlight pairs produce them) may be folded to the other side
+//!    on the GPU, reading the table at (|u|, −v) instead of (|u|, v). The model is symmetric
+//!    there, but the baked table need not be exactly (measured: up to ~4% on satin's
+//!    grazing texels at R = 16), so for |u| < 1e-5 the difference between the two
+//!    interpolations is added, propagated like the filtering error.
+//!
+//! The bound per pair and channel is that propagated error plus 1e-5·|F| +
+//! 1e-6. The test asserts |GPU − CPU| ≤ bound everywhere, and prints the largest absolute
+//! and relative differences and the largest ratio difference/bound.
+
+use clothbake::bake::bake;
+use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
+use clothbake::fabric_file::FabricSet;
+use clothbake::gpu::{GpuBrdf, GpuContext, GpuTable, evaluate_pairs};
+use clothbake::table::thread_frame::ThreadGeometry;
+use clothbake::table::{Geometry, Layout, Table, octahedral, quadrilinear_corners};
+use glam::{DVec3, Vec3};
+use std::time::Instant;
+
+/// Weight quantisation of hardware filtering (8-bit fractions).
+const DELTA: f64 = 1.0 / 256.0;
+/// f32 coordinate error, in texels, per axis.
+const EPSILON: f64 = 1e-4;
+const RELATIVE: f64 = 1e-5;
+const ABSOLUTE: f64 = 1e-6;
+/// |u| (radians) below which f32 may fold a pair to the other side of u = 0.
+const FOLD_EPSILON: f64 = 1e-5;
+
+fn context() -> GpuContext {
+    match GpuContext::new() {
+        Ok(context) => {
+            println!("GPU adapter: {}", context.adapter);
+            context
+        }
+        Err(e) => panic!(
+            "the GPU lookup test needs a wgpu adapter and found none: {e}\n\
+             (CI installs lavapipe: apt-get install -y mesa-vulkan-drivers libvulkan1)"
+        ),
+    }
+}
+
+/// 2000 uniform and 2000 highlight pairs, rounded to f32 (both sides see the same input).
+fn pairs(table: &Table, seed: u64) -> Vec<(Vec3, Vec3)> {
+    let mut pairs = uniform_pairs(2000, seed);
+    pairs.extend(highlight_pairs(&table.fabric, 2000, seed + 1));
+    pairs
+        .into_iter()
+        .map(|(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
+        .collect()
+}
+
+fn range(values: impl IntoIterator<Item = f64>) -> f64 {
+    let (lo, hi) = values
+        .into_iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    hi - lo
+}
+
+/// Thread `thread`'s 4D table (`data`, two channels) interpolated at table coordinates, as
+/// `Geometry::sample_thread` does.
+fn interpolate(thread: &ThreadGeometry, data: &[f32], coordinates: [f64; 4]) -> [f64; 2] {
+    let axes = std::array::from_fn(|a| thread.axes[a].locate(coordinates[a]));
+    let mut sum = [0.0; 2];
+    for (index, weight) in quadrilinear_corners(axes) {
+        let k = thread.texel_index(index) * 2;
+        sum[0] += weight * data[k] as f64;
+        sum[1] += weight * data[k + 1] as f64;
+    }
+    sum
+}
+
+/// The error bound of the module doc for one pair, per RGB channel, and whether the pair
+/// lies on the fold u = 0 of a thread (point 3).
+fn bound(table: &Table, wi: DVec3, wo: DVec3, cpu: DVec3) -> (DVec3, bool) {
+    let albedo = table
+        .fabric
+        .threads()
+        .map(|t| DVec3::from_array(t.albedo_rgb()));
+    let floor = cpu.abs() * RELATIVE + ABSOLUTE;
+    if wi.z <= 0.0 || wo.z <= 0.0 {
+        return (floor, false);
+    }
+    let planes = table.planes();
+    match table.geometry() {
+        Geometry::Grid4d => {
+            let n = table.resolution as usize;
+            let axis = |x: f64| {
+                let f = x.floor();
+                let last = n as i64 - 1;
+                let i = |k: i64| k.clamp(0, last) as usize;
+                (i(f as i64), i(f as i64 + 1), x - f)
+            };
+            let ci = octahedral::encode(wi) * n as f64 - 0.5;
+            let co = octahedral::encode(wo) * n as f64 - 0.5;
+            let axes = [axis(ci.x), axis(ci.y), axis(co.x), axis(co.y)];
+            let corners: Vec<&[f32]> = quadrilinear_corners(axes)
+                .map(|(i, _)| planes[0].texel(i[0] * n + i[2], i[1] * n + i[3]))
+                .collect();
+            let ranges: [f64; 3] =
+                std::array::from_fn(|c| range(corners.iter().map(|t| t[c] as f64)));
+            let scale = 2.0 * DELTA + 4.0 * EPSILON;
+            let bound = (DVec3::splat(ranges[0]) + albedo[0] * ranges[1] + albedo[1] * ranges[2])
+                * scale
+                + floor;
+            (bound, false)
+        }
+        Geometry::ThreadFrame(geometry) => {
+            let mut samples = [[0.0; 4]; 2];
+            let mut errors = [[0.0; 3]; 2];
+            let mut fold = [[0.0; 2]; 2];
+            for (j, thread) in geometry.threads.iter().enumerate() {
+                samples[j] = geometry.sample_thread(planes, j, wi, wo);
+                let coordinates = thread.coordinates(wi, wo);
+                let axes = std::array::from_fn(|a| thread.axes[a].locate(coordinates[a]));
+                let texels: Vec<usize> = quadrilinear_corners(axes)
+                    .map(|(i, _)| thread.texel_index(i) * 2)
+                    .collect();
+                let data = &planes[j].data;
+                let scale = 3.0 * DELTA + 4.0 * EPSILON;
+                errors[j][0] = scale * range(texels.iter().map(|&k| data[k] as f64));
+                errors[j][1] = scale * range(texels.iter().map(|&k| data[k + 1] as f64));
+                let m = thread.masking_axis;
+                let ((x0, x1, _), (y0, y1, _)) =
+                    (m.locate(thread.beta(wi)), m.locate(thread.beta(wo)));
+                let masking = &planes[2 + j];
+                let p_range = range(
+                    [(x0, y0), (x1, y0), (x0, y1), (x1, y1)]
+                        .map(|(x, y)| masking.texel(x, y)[0] as f64),
+                );
+                errors[j][2] = (2.0 * DELTA + 2.0 * EPSILON) * p_range;
+                // On the fold u = 0, f32 may land on the other side, (u, v) → (−u, −v).
+                if coordinates[2] < FOLD_EPSILON {
+                    let [u, v] = [coordinates[2], coordinates[3]];
+                    let other = interpolate(
+                        thread,
+                        &planes[j].data,
+                        [coordinates[0], coordinates[1], u, -v],
+                    );
+                    let here = interpolate(thread, &planes[j].data, coordinates);
+                    // At least a tiny value, marking the pair as on the fold.
+                    fold[j] = [
+                        (other[0] - here[0]).abs().max(f64::MIN_POSITIVE),
+                        (other[1] - here[1]).abs(),
+                    ];
+                }
+            }
+            let q: f64 = geometry.gap * wo.z
+                + (0..2)
+                    .map(|j| geometry.coverage[j] * samples[j][2])
+                    .sum::<f64>();
+            if q <= 0.0 {
+                return (floor, false);
+            }
+            let mut total = floor;
+            for j in 0..2 {
+                let [r, t, p, c2] = samples[j];
+                let a = geometry.coverage[j];
+                let c = c2.max(1e-8);
+                let d_r = a * p / (c * q);
+                let d_t = albedo[j] * (a * p / q);
+                let d_p = (DVec3::splat(r / c) + albedo[j] * t - cpu) * (a / q);
+                // f32 error of 1 − s² (absolute ~1e-7) in reflection/cos²θd'.
+                let c2_error = a * p * r / (c * q) * (1e-7 / c);
+                total += DVec3::splat(d_r * (errors[j][0] + fold[j][0]) + c2_error)
+                    + d_t.abs() * (errors[j][1] + fold[j][1])
+                    + d_p.abs() * errors[j][2];
+            }
+            (total, fold != [[0.0; 2]; 2])
+        }
+    }
+}
+
+/// Bakes `fabric_name` into `layout` at `resolution`, evaluates 4000 pairs on both sides,
+/// prints the differences and asserts the bound.
+fn compare(fabric_name: &str, layout: Layout, resolution: u32, seed: u64) {
+    let start = Instant::now();
+    let context = context();
+    let fabric = FabricSet::builtin()
+        .get(fabric_name)
+        .expect("built-in fabric")
+        .clone();
+    let table = bake(&fabric, layout, resolution, &|| {}).expect("bake");
+    let baked = start.elapsed();
+    let gpu_table = GpuTable::new(&context, &table).expect("upload table");
+    let pairs = pairs(&table, seed);
+    let gpu_start = Instant::now();
+    let gpu = evaluate_pairs(&context, &gpu_table, &pairs).expect("GPU lookup");
+    let gpu_time = gpu_start.elapsed();
+    assert_eq!(gpu.len(), pairs.len());
+
+    let (mut max_abs, mut max_rel, mut max_ratio) = (0.0f64, 0.0f64, 0.0f64);
+    // The same, over the pairs off the fold u = 0.
+    let (mut off_abs, mut off_rel, mut off_ratio, mut on_fold) = (0.0f64, 0.0f64, 0.0f64, 0);
+    let mut failures = Vec::new();
+    let mut nonzero = 0;
+    for (k, (&(wi, wo), g)) in pairs.iter().zip(&gpu).enumerate() {
+        let (wi, wo) = (wi.as_dvec3(), wo.as_dvec3());
+        let cpu = table.lookup(wi, wo);
+        let gpu = DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64);
+        let (bound, folded) = bound(&table, wi, wo, cpu);
+        on_fold += folded as usize;
+        if cpu.max_element() > 0.0 {
+            nonzero += 1;
+        }
+        for c in 0..3 {
+            let diff = (gpu[c] - cpu[c]).abs();
+            max_abs = max_abs.max(diff);
+            if !folded {
+                off_abs = off_abs.max(diff);
+                off_ratio = off_ratio.max(diff / bound[c]);
+            }
+            if cpu[c].abs() > 1e-3 {
+                max_rel = max_rel.max(diff / cpu[c].abs());
+                if !folded {
+                    off_rel = off_rel.max(diff / cpu[c].abs());
+                }
+            }
+            max_ratio = max_ratio.max(diff / bound[c]);
+            // A NaN on the GPU fails too.
+            let within = diff <= bound[c];
+            if !within && failures.len() < 10 {
+                failures.push(format!(
+                    "pair {k} wi {wi} wo {wo}: channel {c} GPU {} CPU {} diff {diff:e} bound {:e}",
+                    gpu[c], cpu[c], bound[c]
+                ));
+            }
+        }
+    }
+    println!(
+        "{} ({fabric_name}): {} pairs ({nonzero} with F > 0), \
+         max |GPU−CPU| {max_abs:.3e}, max relative {max_rel:.3e} (where |F| > 1e-3), \
+         max diff/bound {max_ratio:.3}; off the fold u = 0 ({on_fold} pairs on it): \
+         max |GPU−CPU| {off_abs:.3e}, max relative {off_rel:.3e}, max diff/bound {off_ratio:.3}; bake {:.2} s, GPU lookup {:.1} ms, total {:.2} s",
+        gpu_table.label(),
+        pairs.len(),
+        baked.as_secs_f64(),
+        gpu_time.as_secs_f64() * 1e3,
+        start.elapsed().as_secs_f64()
+    );
+    assert!(
+        nonzero > pairs.len() / 2,
+        "most pairs should see a nonzero F, got {nonzero}"
+    );
+    assert!(
+        failures.is_empty(),
+        "GPU and CPU lookups differ beyond the bound:\n{}",
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn thread_frame_satin_matches_cpu() {
+    compare("polyester_satin_charmeuse", Layout::ThreadFrame, 16, 11);
+}
+
+#[test]
+fn thread_frame_velvet_matches_cpu() {
+    compare("velvet", Layout::ThreadFrame, 16, 23);
+}
+
+#[test]
+fn grid4d_matches_cpu() {
+    compare("silk_shot", Layout::Grid4d, 12, 37);
+}
