@@ -7,11 +7,13 @@
 # - Mesa's lavapipe Vulkan driver (mesa-vulkan-drivers, libvulkan1) so that wgpu finds an
 #   adapter without a GPU; installing it also upgrades the Mesa packages already present,
 #   which must match;
-# - Xvfb, an X server without a display, for the `clothbake view` window test.
+# - Xvfb, an X server without a display, for the `clothbake view` window test, and the X
+#   client libraries winit loads at run time (it links none of them).
 # Packages already installed are left alone, so a second run costs nothing.
 set -euo pipefail
 
-packages=(mesa-vulkan-drivers libvulkan1 xvfb xauth ca-certificates curl)
+packages=(mesa-vulkan-drivers libvulkan1 xvfb xauth ca-certificates curl
+    libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0)
 missing=()
 for package in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||

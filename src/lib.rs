@@ -5,13 +5,15 @@
 //! - [`table`]: table layouts and the lookup that GPU shaders mirror.
 //! - [`bake`]: integrates the model into a table (rayon); [`bake_job`]: the `bake` command's
 //!   choice of resolution, manifest and files.
-//! - [`gpu`]: the wgpu runtime core: a device, tables and the direct model as GPU BRDFs.
 //! - [`table_file`]: tables as EXR files, written atomically, read as untrusted input.
 //! - [`accuracy`]: a table's error against the direct evaluation.
 //! - [`scene`], [`manifest`]: what a scene needs baked, and what was baked from what.
+//! - [`render`]: cloth rendered with a GPU BRDF (table lookup or direct), headless or into a
+//!   window; the CPU reference of the same view and image error metrics.
 //! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
 //! - [`direction_sets`]: the seeded direction pairs on which errors are measured.
 //! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
+//! - [`viewer`]: `clothbake view`, the interactive window (winit): lookup or direct shading.
 
 pub mod accuracy;
 pub mod bake;
@@ -22,6 +24,8 @@ pub mod fabric_file;
 pub mod gpu;
 pub mod manifest;
 pub mod model;
+pub mod render;
 pub mod scene;
 pub mod table;
 pub mod table_file;
+pub mod viewer;

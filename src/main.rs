@@ -7,6 +7,7 @@ use clothbake::eval_stream::{EvalOutput, eval_stream};
 use clothbake::fabric_file::FabricSet;
 use clothbake::manifest;
 use clothbake::model::{Fabric, Integration, Patch};
+use clothbake::render;
 use clothbake::scene::Scene;
 use clothbake::table::Layout;
 use clothbake::table_file::read_table;
@@ -85,6 +86,74 @@ enum Command {
         #[arg(long, default_value_t = 4000, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
         pairs: u32,
     },
+    /// Render the scene's cloth headless to PNG by table lookup (or the direct shader), print
+    /// the adapter and the median GPU time per frame; with --reference compare with the CPU.
+    Render {
+        /// Scene file (TOML): fabrics, camera, lights, mesh (default: tables/scene.toml's).
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Render only this fabric (default: every fabric of the scene, to OUT-STEM-NAME.png).
+        #[arg(long)]
+        fabric: Option<String>,
+        /// Directory of baked tables (NAME.exr).
+        #[arg(long, default_value = "tables")]
+        tables: PathBuf,
+        /// Output PNG.
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value_t = 1024)]
+        width: u32,
+        #[arg(long, default_value_t = 1024)]
+        height: u32,
+        /// Timed frames (after one warm-up frame); the median is printed.
+        #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+        frames: u32,
+        /// How the shader evaluates F: table lookup, or the model itself (paper mode).
+        #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
+        shader: ShaderArg,
+        /// Tangent samples per thread of --shader direct (default 32).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+        samples: Option<u32>,
+        /// Also render the view on the CPU by direct evaluation: writes STEM-reference.png and
+        /// STEM-error.png and prints the image error.
+        #[arg(long)]
+        reference: bool,
+        /// OBJ mesh with UVs to render instead of the scene's (the camera is aimed at it).
+        #[arg(long)]
+        mesh: Option<PathBuf>,
+    },
+    /// Open an interactive window showing the scene's cloth shaded by table lookup (or by the
+    /// direct shader: key D). Keys are listed at start.
+    View {
+        /// Scene file (TOML): fabrics, camera, lights, mesh (default: tables/scene.toml's).
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Fabric shown first (default: the scene's first).
+        #[arg(long)]
+        fabric: Option<String>,
+        /// Directory of baked tables (NAME.exr).
+        #[arg(long, default_value = "tables")]
+        tables: PathBuf,
+        /// OBJ mesh with UVs to show instead of the scene's mesh.
+        #[arg(long)]
+        mesh: Option<PathBuf>,
+        /// Draw N frames, print the median frame time and exit.
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
+        frames: Option<u32>,
+        /// Paper-mode samples per thread of the direct shader (+/- change it).
+        #[arg(long, default_value_t = clothbake::viewer::DEFAULT_SAMPLES,
+              value_parser = clap::value_parser!(u32).range(1..=1024))]
+        samples: u32,
+        /// Shading at start: table lookup, or the model in the shader (key D toggles).
+        #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
+        shader: ShaderArg,
+    },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum ShaderArg {
+    Lookup,
+    Direct,
 }
 
 fn parse_layout(name: &str) -> Result<Layout, String> {
@@ -236,6 +305,69 @@ fn run(cli: Cli) -> Result<(), String> {
             pool.install(|| bake_job::run(&job, &progress, &mut report))
                 .map_err(|e| e.to_string())
         }
+        Command::Render {
+            scene,
+            fabric,
+            tables,
+            out,
+            width,
+            height,
+            frames,
+            shader,
+            samples,
+            reference,
+            mesh,
+        } => {
+            let scene = match scene {
+                Some(path) => Scene::load(&path).map_err(|e| e.to_string())?,
+                None => Scene::builtin(),
+            };
+            let shader = match (shader, samples) {
+                (ShaderArg::Lookup, None) => render::job::Shader::Lookup,
+                (ShaderArg::Lookup, Some(_)) => {
+                    return Err("--samples applies to --shader direct only".into());
+                }
+                (ShaderArg::Direct, n) => render::job::Shader::Direct {
+                    samples: n.unwrap_or(32),
+                },
+            };
+            let job = render::job::RenderJob {
+                scene,
+                fabric,
+                tables,
+                out,
+                width,
+                height,
+                frames,
+                shader,
+                reference,
+                mesh,
+            };
+            render::job::run(&job, &mut |line| println!("{line}")).map(|_| ())
+        }
+        Command::View {
+            scene,
+            fabric,
+            tables,
+            mesh,
+            frames,
+            samples,
+            shader,
+        } => {
+            let scene = match scene {
+                Some(path) => Scene::load(&path).map_err(|e| e.to_string())?,
+                None => Scene::builtin(),
+            };
+            view(clothbake::viewer::ViewOptions {
+                scene,
+                fabric,
+                tables,
+                mesh,
+                frames,
+                samples,
+                direct: matches!(shader, ShaderArg::Direct),
+            })
+        }
         Command::Check { table, pairs } => {
             let file = read_table(&table).map_err(|e| e.to_string())?;
             let error = measure(&file.table, &file.table.fabric, pairs as usize);
@@ -268,6 +400,20 @@ fn run(cli: Cli) -> Result<(), String> {
             Ok(())
         }
     }
+}
+
+/// `clothbake view`: runs the viewer, then reports the frames drawn and their median time.
+fn view(options: clothbake::viewer::ViewOptions) -> Result<(), String> {
+    let summary = clothbake::viewer::run(options).map_err(|e| e.to_string())?;
+    let ms = |v: Option<f64>| v.map_or_else(|| "n/a".to_string(), |v| format!("{v:.2} ms"));
+    println!(
+        "clothbake view: drew {} frames on {}; median frame time {} (CPU interval), GPU {}",
+        summary.frames,
+        summary.adapter,
+        ms(summary.median_frame_ms),
+        ms(summary.median_gpu_ms)
+    );
+    Ok(())
 }
 
 /// A progress bar on an interactive terminal, hidden otherwise.

@@ -1,0 +1,183 @@
+// The cloth render pass (src/render/mod.rs): appended to a GpuBrdf's WGSL, which defines
+// `cloth_brdf(wi, wo)` = F(wi, wo) (MODEL.md) in the local cloth frame with its bindings in
+// @group(0). This file's own resources are in @group(1); its names avoid the `cloth_`
+// prefixes the BRDF module reserves.
+//
+// Per pixel: the thread frame (t = thread 1 along u, b = n × t, n) from the interpolated
+// vertex frame, re-orthonormalised; wi (to each light) and wo (to the eye) in that frame;
+// radiance L = Σ_lights E·F(wi, wo), with E = colour·irradiance for a directional light and
+// colour·I/d² for a point light (MODEL.md: a distant light of perpendicular irradiance E
+// gives L_o = E·F; F already holds every cosine). No shadows.
+//
+// Two-sided cloth: the side facing the viewer is shaded, judged by the interpolated normal
+// (n is flipped when n·wo < 0, so wo.z ≥ 0 always; t is kept, so the flipped frame is still
+// right-handed with y = n × t). Lights on the other side of the cloth give nothing (wi.z ≤ 0:
+// MODEL.md's one-sided patch).
+
+// One light: vector.w = 0: directional, vector.xyz the unit direction towards it;
+// vector.w = 1: point, vector.xyz its position. power.rgb = colour·irradiance (directional)
+// or colour·intensity (point).
+struct RenderLight {
+    vector: vec4<f32>,
+    power: vec4<f32>,
+}
+
+// `FrameUniform` in src/render/mod.rs.
+struct RenderFrameUniform {
+    view_proj: mat4x4<f32>,
+    // xyz: the eye position.
+    eye: vec4<f32>,
+    // x: exposure; y: 1 to encode the display output as sRGB in the shader (UNORM targets),
+    // 0 when the target format encodes it (…Srgb formats).
+    params: vec4<f32>,
+    // x: number of lights.
+    counts: vec4<u32>,
+    lights: array<RenderLight, 8>,
+}
+
+@group(1) @binding(0) var<uniform> render_frame: RenderFrameUniform;
+
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) tangent: vec3<f32>,
+    @location(3) uv: vec2<f32>,
+}
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) tangent: vec3<f32>,
+}
+
+@vertex
+fn vs_main(in: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    out.clip = render_frame.view_proj * vec4<f32>(in.position, 1.0);
+    out.world = in.position;
+    out.normal = in.normal;
+    out.tangent = in.tangent;
+    return out;
+}
+
+// The orthonormal thread frame of a pixel (columns t, b, n in world space).
+struct ShadingFrame {
+    t: vec3<f32>,
+    b: vec3<f32>,
+    n: vec3<f32>,
+}
+
+// Any unit vector orthogonal to unit n (for the rare pixel whose interpolated tangent is
+// parallel to the normal).
+fn render_perpendicular(n: vec3<f32>) -> vec3<f32> {
+    var a = vec3<f32>(1.0, 0.0, 0.0);
+    if abs(n.x) > 0.9 {
+        a = vec3<f32>(0.0, 1.0, 0.0);
+    }
+    return normalize(a - n * dot(n, a));
+}
+
+fn shading_frame(in: VertexOut) -> ShadingFrame {
+    let wo = normalize(render_frame.eye.xyz - in.world);
+    var n = in.normal;
+    let n_length = length(n);
+    if n_length < 1e-12 {
+        n = wo;
+    } else {
+        n = n / n_length;
+    }
+    if dot(n, wo) < 0.0 {
+        n = -n;
+    }
+    // Gram-Schmidt: the tangent's component orthogonal to n (interpolation tilts it).
+    var t = in.tangent - n * dot(n, in.tangent);
+    let t_length = length(t);
+    if t_length < 1e-6 {
+        t = render_perpendicular(n);
+    } else {
+        t = t / t_length;
+    }
+    return ShadingFrame(t, cross(n, t), n);
+}
+
+fn to_local(f: ShadingFrame, w: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(dot(w, f.t), dot(w, f.b), dot(w, f.n));
+}
+
+// Outgoing radiance towards the eye (linear RGB).
+fn render_radiance(in: VertexOut) -> vec3<f32> {
+    let f = shading_frame(in);
+    let wo = to_local(f, normalize(render_frame.eye.xyz - in.world));
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < render_frame.counts.x; k++) {
+        let light = render_frame.lights[k];
+        var direction = light.vector.xyz;
+        var irradiance = light.power.rgb;
+        if light.vector.w != 0.0 {
+            let d = light.vector.xyz - in.world;
+            let d2 = max(dot(d, d), 1e-12);
+            direction = d * inverseSqrt(d2);
+            irradiance = irradiance / d2;
+        }
+        let wi = to_local(f, direction);
+        if wi.z > 0.0 && wo.z > 0.0 {
+            sum += irradiance * cloth_brdf(wi, wo);
+        }
+    }
+    return sum;
+}
+
+// sRGB transfer function (IEC 61966-2-1) of a value in [0, 1].
+fn render_srgb(c: vec3<f32>) -> vec3<f32> {
+    let low = c * 12.92;
+    let high = 1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055;
+    return select(high, low, c <= vec3<f32>(0.0031308));
+}
+
+// Tone mapping, mirrored by `render::image::tonemap`: exposure, then the ACES filmic curve
+// fit x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14) clamped to [0, 1], then sRGB (here or by
+// the target format).
+fn render_tonemap(radiance: vec3<f32>) -> vec3<f32> {
+    let x = max(radiance * render_frame.params.x, vec3<f32>(0.0));
+    let mapped = clamp(
+        (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14),
+        vec3<f32>(0.0),
+        vec3<f32>(1.0),
+    );
+    if render_frame.params.y > 0.5 {
+        return render_srgb(mapped);
+    }
+    return mapped;
+}
+
+@fragment
+fn fs_display(in: VertexOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(render_tonemap(render_radiance(in)), 1.0);
+}
+
+struct DisplayAndLinear {
+    @location(0) display: vec4<f32>,
+    // Linear radiance; alpha 1 marks covered pixels (the clear value has alpha 0).
+    @location(1) linear: vec4<f32>,
+}
+
+@fragment
+fn fs_display_linear(in: VertexOut) -> DisplayAndLinear {
+    let radiance = render_radiance(in);
+    return DisplayAndLinear(vec4<f32>(render_tonemap(radiance), 1.0), vec4<f32>(radiance, 1.0));
+}
+
+// The G-buffer of the CPU reference: what `render_radiance` starts from, per pixel.
+struct GBufferOut {
+    // xyz: world position; w = 1 marks covered pixels.
+    @location(0) position: vec4<f32>,
+    @location(1) tangent: vec4<f32>,
+    @location(2) normal: vec4<f32>,
+}
+
+@fragment
+fn fs_gbuffer(in: VertexOut) -> GBufferOut {
+    let f = shading_frame(in);
+    return GBufferOut(vec4<f32>(in.world, 1.0), vec4<f32>(f.t, 0.0), vec4<f32>(f.n, 0.0));
+}

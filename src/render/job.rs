@@ -1,0 +1,262 @@
+//! The `render` command: each fabric of a scene rendered headless with the table lookup or
+//! the direct shader, written as PNG with its median GPU time per frame; optionally the CPU
+//! reference of the same view, an error heat map and the image error.
+
+use super::image::{HEATMAP_LOG10_RANGE, ImageError, error_heatmap, image_error, write_png};
+use super::mesh::Mesh;
+use super::{FrameSettings, Headless, RenderOutput, reference};
+use crate::fabric_file::FabricSet;
+use crate::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuTable};
+use crate::model::{Fabric, Integration, Patch};
+use crate::scene::Scene;
+use crate::table_file::{TableFile, read_table};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Which evaluation of F the render shader uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shader {
+    /// The baked table, `TABLES/NAME.exr`.
+    Lookup,
+    /// The model in the shader, paper mode with this many tangent samples per thread.
+    Direct { samples: u32 },
+}
+
+/// One `render` run.
+#[derive(Clone, Debug)]
+pub struct RenderJob {
+    pub scene: Scene,
+    /// Render only this fabric (default: every fabric of the scene).
+    pub fabric: Option<String>,
+    /// Directory of the baked tables.
+    pub tables: PathBuf,
+    /// Output PNG; with several fabrics, `STEM-FABRIC.png` beside it.
+    pub out: PathBuf,
+    pub width: u32,
+    pub height: u32,
+    /// Timed frames (after one warm-up frame).
+    pub frames: u32,
+    pub shader: Shader,
+    /// Also render the CPU reference and compare.
+    pub reference: bool,
+    /// An OBJ mesh to render instead of the scene's; the camera is re-aimed at it.
+    pub mesh: Option<PathBuf>,
+}
+
+/// What `render` produced for one fabric.
+#[derive(Clone, Debug)]
+pub struct FabricRender {
+    pub fabric: String,
+    pub png: PathBuf,
+    pub output: RenderOutput,
+    /// With `reference`: the reference and heat map files, the error, the CPU time.
+    pub comparison: Option<Comparison>,
+}
+
+/// A render against its CPU reference.
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    pub reference_png: PathBuf,
+    pub error_png: PathBuf,
+    pub error: ImageError,
+    pub reference_seconds: f64,
+}
+
+/// The table of `fabric` in `tables`, checked to be baked from exactly these parameters.
+pub fn load_table(tables: &Path, fabric: &Fabric) -> Result<TableFile, String> {
+    let path = tables.join(format!("{}.exr", fabric.name));
+    if !path.exists() {
+        return Err(format!(
+            "no table {} for fabric '{}': bake it first with `clothbake bake --fabric {} --out {}` \
+             (or `clothbake bake --scene SCENE --out {}`)",
+            path.display(),
+            fabric.name,
+            fabric.name,
+            tables.display(),
+            tables.display()
+        ));
+    }
+    let file = read_table(&path).map_err(|e| e.to_string())?;
+    if file.table.fabric != *fabric {
+        return Err(format!(
+            "table {} was baked from other parameters of '{}' than the fabric file gives: \
+             bake it again (`clothbake bake --fabric {} --out {}`)",
+            path.display(),
+            fabric.name,
+            fabric.name,
+            tables.display()
+        ));
+    }
+    Ok(file)
+}
+
+/// `out` for a single fabric, else `STEM-FABRIC.EXT` beside it.
+pub fn output_path(out: &Path, fabric: &str, several: bool) -> PathBuf {
+    if !several {
+        return out.to_path_buf();
+    }
+    with_suffix(out, &format!("-{fabric}"))
+}
+
+/// `STEMsuffix.EXT` beside `path` (extension png if it has none).
+pub fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "frame".to_string(), |s| s.to_string_lossy().into_owned());
+    let ext = path
+        .extension()
+        .map_or_else(|| "png".to_string(), |e| e.to_string_lossy().into_owned());
+    path.with_file_name(format!("{stem}{suffix}.{ext}"))
+}
+
+/// Runs the job; `say` receives each line of the report as it happens.
+pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRender>, String> {
+    let set =
+        FabricSet::load_or_builtin(job.scene.fabric_file.as_deref()).map_err(|e| e.to_string())?;
+    let names = match &job.fabric {
+        Some(name) => vec![name.clone()],
+        None => job.scene.fabrics.clone(),
+    };
+    let fabrics: Vec<Fabric> = names
+        .iter()
+        .map(|name| set.require(name).cloned())
+        .collect::<Result<_, _>>()?;
+    // Tables first: a missing one is an error before any GPU work.
+    let tables = match job.shader {
+        Shader::Lookup => fabrics
+            .iter()
+            .map(|f| load_table(&job.tables, f).map(Some))
+            .collect::<Result<Vec<_>, _>>()?,
+        Shader::Direct { .. } => vec![None; fabrics.len()],
+    };
+    let mut settings = FrameSettings::from_scene(&job.scene);
+    let mesh = match &job.mesh {
+        Some(path) => {
+            let mesh = Mesh::load_obj(path).map_err(|e| e.to_string())?;
+            // Frame the user's mesh: aim at its bounding sphere, keep the view direction.
+            let (centre, radius) = mesh.bounding_sphere();
+            let fov = settings.camera.fov_y_deg.to_radians();
+            let direction = (settings.camera.eye - settings.camera.target).normalize();
+            settings.camera.target = centre;
+            settings.camera.eye = centre + direction * (1.1 * radius / (0.5 * fov).sin());
+            say(&format!(
+                "mesh {}: {} vertices, {} triangles; camera aimed at its bounding sphere",
+                path.display(),
+                mesh.vertices.len(),
+                mesh.triangle_count()
+            ));
+            mesh
+        }
+        None => Mesh::from_spec(&job.scene.mesh).map_err(|e| e.to_string())?,
+    };
+    let context = GpuContext::new().map_err(|e| e.to_string())?;
+    say(&format!("adapter: {}", context.adapter));
+    let several = fabrics.len() > 1;
+    let mut headless: Option<Headless> = None;
+    let mut results = Vec::new();
+    for (fabric, table) in fabrics.iter().zip(&tables) {
+        let brdf: Box<dyn GpuBrdf> = match (job.shader, table) {
+            (Shader::Lookup, Some(file)) => {
+                Box::new(GpuTable::new(&context, &file.table).map_err(|e| e.to_string())?)
+            }
+            (Shader::Direct { samples }, _) => {
+                Box::new(GpuDirect::new(&context, fabric, samples).map_err(|e| e.to_string())?)
+            }
+            (Shader::Lookup, None) => unreachable!("tables are loaded for the lookup"),
+        };
+        let renderer = match &mut headless {
+            Some(h) => {
+                h.renderer
+                    .set_brdf(&context, brdf.as_ref())
+                    .map_err(|e| e.to_string())?;
+                h
+            }
+            None => headless.insert(
+                Headless::new(&context, &mesh, brdf.as_ref(), job.width, job.height)
+                    .map_err(|e| e.to_string())?,
+            ),
+        };
+        let output = renderer
+            .render(&context, &settings, job.frames)
+            .map_err(|e| e.to_string())?;
+        let png = output_path(&job.out, &fabric.name, several);
+        create_parent(&png)?;
+        write_png(&png, &output.display)?;
+        let coverage = output.linear.coverage();
+        say(&format!(
+            "{}: {} ({}×{}, {:.1}% covered): {}: median {:.3} ms per frame over {} frames ({})",
+            fabric.name,
+            png.display(),
+            job.width,
+            job.height,
+            100.0 * coverage as f64 / output.linear.pixels.len() as f64,
+            brdf.label(),
+            output.timing.median_ms(),
+            output.timing.frame_ms.len(),
+            output.timing.source
+        ));
+        let comparison = if job.reference {
+            let gbuffer = renderer
+                .gbuffer(&context, &settings)
+                .map_err(|e| e.to_string())?;
+            let start = Instant::now();
+            let patch = Patch::new(fabric, Integration::Direct);
+            let reference = reference::shade(&gbuffer, &settings, &patch);
+            let reference_seconds = start.elapsed().as_secs_f64();
+            let error = image_error(&output.linear, &reference, settings.exposure)?;
+            let reference_png = with_suffix(&png, "-reference");
+            let error_png = with_suffix(&png, "-error");
+            write_png(
+                &reference_png,
+                &reference.tonemapped(settings.exposure, settings.background),
+            )?;
+            write_png(&error_png, &error_heatmap(&output.linear, &reference)?)?;
+            let (lo, hi) = HEATMAP_LOG10_RANGE;
+            say(&format!(
+                "{}: CPU reference (direct evaluation, {} pixels) in {:.1} s: {}; error map {} \
+                 (|render − reference|/|reference|, log scale: black 1e{lo} … blue, green, yellow, \
+                 red … white ≥ 1e{hi}; bar below with ticks per decade)",
+                fabric.name,
+                error.covered,
+                reference_seconds,
+                reference_png.display(),
+                error_png.display(),
+            ));
+            say(&format!(
+                "{}: image error against the reference: relative L2 {:.3}% (linear radiance), \
+                 PSNR {:.2} dB (tone mapped){}",
+                fabric.name,
+                100.0 * error.relative_l2,
+                error.psnr_db,
+                if error.coverage_mismatch > 0 {
+                    format!("; {} pixels differ in coverage", error.coverage_mismatch)
+                } else {
+                    String::new()
+                }
+            ));
+            Some(Comparison {
+                reference_png,
+                error_png,
+                error,
+                reference_seconds,
+            })
+        } else {
+            None
+        };
+        results.push(FabricRender {
+            fabric: fabric.name.clone(),
+            png,
+            output,
+            comparison,
+        });
+    }
+    Ok(results)
+}
+
+fn create_parent(path: &Path) -> Result<(), String> {
+    match path.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() => std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display())),
+        _ => Ok(()),
+    }
+}

@@ -1,0 +1,663 @@
+//! The winit application of `clothbake view`: one window, its wgpu surface, input handling
+//! and the frame loop. Every frame requests the next and nothing waits on the GPU except
+//! the surface itself, so the frame interval measures what a frame costs.
+
+use super::controls::{
+    self, Action, FrameStats, LightControl, OrbitControl, action_for_key, cycle_index,
+    pixels_to_lines, step_samples,
+};
+use super::timer::GpuTimer;
+use super::{ViewError, ViewSummary};
+use crate::gpu::{GpuContext, GpuDirect, GpuTable};
+use crate::model::Fabric;
+use crate::render::job::load_table;
+use crate::render::mesh::Mesh;
+use crate::render::{Camera, DEPTH_FORMAT, FrameSettings, FrameTargets, LightSource, Renderer};
+use crate::scene::Scene;
+use crate::table_file::TableFile;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::window::{Window, WindowId};
+
+/// Initial window size (physical pixels).
+const WINDOW_SIZE: PhysicalSize<u32> = PhysicalSize::new(1024, 768);
+/// How often the title's frame times are refreshed.
+const TITLE_PERIOD: Duration = Duration::from_millis(250);
+
+/// What [`super::run`] prepared.
+pub(super) struct Setup {
+    pub scene: Scene,
+    pub mesh: Mesh,
+    /// The fabrics Tab and 1–9 move through.
+    pub fabrics: Vec<Fabric>,
+    pub first: usize,
+    pub tables: PathBuf,
+    pub frames: Option<u32>,
+    pub samples: u32,
+    /// Start with the direct shader.
+    pub direct: bool,
+}
+
+/// How the cloth is shaded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Shading {
+    Lookup,
+    Direct,
+}
+
+/// Runs the event loop until the window closes; `table` is the first fabric's.
+pub(super) fn run(setup: Setup, table: TableFile) -> Result<ViewSummary, ViewError> {
+    // winit loads the X11 client libraries at run time and panics when libxkbcommon-x11 is
+    // missing (the others give an error): turn that into the same kind of error.
+    let event_loop = std::panic::catch_unwind(EventLoop::new)
+        .map_err(|_| {
+            ViewError::Display(
+                "the window system's client libraries could not be loaded (on Debian: \
+                 apt-get install libxkbcommon-x11-0 libxcursor1 libxi6 libxrandr2 libx11-xcb1)"
+                    .into(),
+            )
+        })?
+        .map_err(|e| ViewError::Display(os_message(&e)))?;
+    // Each drawn frame requests the next, so waiting for events costs no frames, and a
+    // minimised window (nothing to draw) does not spin.
+    event_loop.set_control_flow(ControlFlow::Wait);
+    let mut app = App::new(setup, table);
+    let result = event_loop.run_app(&mut app);
+    if let Some(error) = app.error.take() {
+        return Err(error);
+    }
+    result.map_err(|e| ViewError::Display(os_message(&e)))?;
+    let Some(graphics) = &app.graphics else {
+        return Err(ViewError::Display(
+            "the event loop ended before a window was created".into(),
+        ));
+    };
+    Ok(ViewSummary {
+        adapter: graphics.gpu.adapter.to_string(),
+        frames: app.stats.frames(),
+        median_frame_ms: app.stats.median_interval(),
+        median_gpu_ms: app.stats.median_gpu(),
+    })
+}
+
+/// A winit error without the source location winit puts in front of OS errors
+/// ("os error at FILE:LINE: message"), which means nothing to a user.
+fn os_message(error: &dyn std::fmt::Display) -> String {
+    let text = error.to_string();
+    text.strip_prefix("os error at ")
+        .and_then(|rest| rest.split_once(": "))
+        .map_or_else(|| text.clone(), |(_, message)| message.to_string())
+}
+
+struct App {
+    setup: Setup,
+    /// The first fabric's table, until the window's device has it.
+    first_table: Option<TableFile>,
+    orbit: OrbitControl,
+    light: LightControl,
+    stats: FrameStats,
+    shading: Shading,
+    samples: u32,
+    current: usize,
+    shift: bool,
+    dragging: bool,
+    cursor: Option<(f64, f64)>,
+    last_frame: Option<Instant>,
+    last_title: Instant,
+    graphics: Option<Graphics>,
+    error: Option<ViewError>,
+}
+
+/// A fabric's GPU evaluations of F: the table lookup, and the direct shader once asked for.
+struct FabricGpu {
+    lookup: GpuTable,
+    /// The direct shader and its samples per thread.
+    direct: Option<(u32, GpuDirect)>,
+}
+
+/// The window and everything drawn into it.
+struct Graphics {
+    window: Arc<Window>,
+    instance: wgpu::Instance,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    gpu: GpuContext,
+    renderer: Renderer,
+    depth: wgpu::TextureView,
+    /// Per fabric of the list, once loaded.
+    fabrics: Vec<Option<FabricGpu>>,
+    timer: Option<GpuTimer>,
+    /// Validation errors wgpu reported outside any error scope (its default handler panics).
+    uncaptured: Arc<Mutex<Option<String>>>,
+}
+
+impl App {
+    fn new(setup: Setup, table: TableFile) -> Self {
+        Self {
+            orbit: OrbitControl::new(setup.scene.camera),
+            light: LightControl::new(&setup.scene.lights),
+            stats: FrameStats::default(),
+            shading: Shading::Lookup,
+            samples: setup.samples,
+            current: setup.first,
+            shift: false,
+            dragging: false,
+            cursor: None,
+            last_frame: None,
+            last_title: Instant::now(),
+            graphics: None,
+            error: None,
+            first_table: Some(table),
+            setup,
+        }
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: ViewError) {
+        if self.error.is_none() {
+            self.error = Some(error);
+        }
+        event_loop.exit();
+    }
+
+    fn mode_label(&self) -> String {
+        match self.shading {
+            Shading::Lookup => "table lookup".to_string(),
+            Shading::Direct => format!("direct shader N={}", self.samples),
+        }
+    }
+
+    /// The window, surface, device and renderer, showing the first fabric by lookup.
+    fn create_graphics(&mut self, event_loop: &ActiveEventLoop) -> Result<Graphics, ViewError> {
+        let attributes = Window::default_attributes()
+            .with_title("clothbake view")
+            .with_inner_size(WINDOW_SIZE);
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .map_err(|e| ViewError::Display(os_message(&e)))?,
+        );
+        let instance = GpuContext::instance();
+        let surface = instance
+            .create_surface(window.clone())
+            .map_err(|e| ViewError::Display(format!("cannot create a wgpu surface: {e}")))?;
+        let gpu = GpuContext::with_surface(&instance, &surface)?;
+        let config = surface_config(&instance, &surface, window.inner_size())?;
+        println!(
+            "clothbake view: adapter {}; surface {:?}, {:?}; GPU timestamps {}",
+            gpu.adapter,
+            config.format,
+            config.present_mode,
+            if gpu.timestamps() { "yes" } else { "no" }
+        );
+        let uncaptured = Arc::new(Mutex::new(None));
+        let slot = uncaptured.clone();
+        gpu.device
+            .on_uncaptured_error(Arc::new(move |error: wgpu::Error| {
+                if let Ok(mut slot) = slot.lock() {
+                    slot.get_or_insert_with(|| error.to_string());
+                }
+            }));
+        let table = self
+            .first_table
+            .take()
+            .ok_or_else(|| ViewError::Render("the first table was already used".into()))?;
+        let first = FabricGpu {
+            lookup: GpuTable::new(&gpu, &table.table)?,
+            direct: None,
+        };
+        drop(table);
+        let renderer = Renderer::new(&gpu, config.format, false, &self.setup.mesh, &first.lookup)?;
+        let mut fabrics: Vec<Option<FabricGpu>> = self.setup.fabrics.iter().map(|_| None).collect();
+        fabrics[self.current] = Some(first);
+        let depth = depth_view(&gpu, &config);
+        let timer = GpuTimer::new(&gpu);
+        let graphics = Graphics {
+            window,
+            instance,
+            surface,
+            config,
+            gpu,
+            renderer,
+            depth,
+            fabrics,
+            timer,
+            uncaptured,
+        };
+        graphics.configure();
+        Ok(graphics)
+    }
+
+    /// Shows fabric `index` with `shading` (direct: `samples` per thread), loading what it
+    /// needs. On error nothing changes and the message says why.
+    fn show(&mut self, index: usize, shading: Shading, samples: u32) -> Result<(), String> {
+        let Some(g) = &mut self.graphics else {
+            return Err("no window".into());
+        };
+        if g.fabrics[index].is_none() {
+            let file = load_table(&self.setup.tables, &self.setup.fabrics[index])?;
+            let lookup = GpuTable::new(&g.gpu, &file.table).map_err(|e| e.to_string())?;
+            g.fabrics[index] = Some(FabricGpu {
+                lookup,
+                direct: None,
+            });
+        }
+        let Some(f) = &mut g.fabrics[index] else {
+            return Err("fabric not loaded".into());
+        };
+        match shading {
+            Shading::Lookup => g
+                .renderer
+                .set_brdf(&g.gpu, &f.lookup)
+                .map_err(|e| e.to_string())?,
+            Shading::Direct => {
+                if f.direct.as_ref().map(|(n, _)| *n) != Some(samples) {
+                    let direct = GpuDirect::new(&g.gpu, &self.setup.fabrics[index], samples)
+                        .map_err(|e| format!("direct shader unavailable: {e}"))?;
+                    f.direct = Some((samples, direct));
+                }
+                if let Some((_, direct)) = &f.direct {
+                    g.renderer
+                        .set_brdf(&g.gpu, direct)
+                        .map_err(|e| format!("direct shader unavailable: {e}"))?;
+                }
+            }
+        }
+        let label = g.renderer.brdf_label().to_string();
+        let changed = (index, shading, samples) != (self.current, self.shading, self.samples);
+        self.current = index;
+        self.shading = shading;
+        self.samples = samples;
+        if changed {
+            self.stats.clear_recent();
+            let (name, mode) = (&self.setup.fabrics[index].name, self.mode_label());
+            println!("clothbake view: {name}, {mode} ({label})");
+            // The title says at once what is shown; times follow with the next update (a
+            // slow shader may take seconds per frame).
+            if let Some(g) = &self.graphics {
+                g.window
+                    .set_title(&controls::title(name, &mode, None, None));
+            }
+        }
+        Ok(())
+    }
+
+    /// [`App::show`], reporting a failure on stderr (the view stays as it was).
+    fn show_or_report(&mut self, index: usize, shading: Shading, samples: u32) {
+        if let Err(message) = self.show(index, shading, samples) {
+            eprintln!("clothbake view: {message}");
+        }
+    }
+
+    fn handle(&mut self, event_loop: &ActiveEventLoop, action: Action) {
+        let (index, shading, samples) = (self.current, self.shading, self.samples);
+        match action {
+            Action::Quit => event_loop.exit(),
+            Action::CycleFabric(step) => {
+                let next = cycle_index(index, step, self.setup.fabrics.len());
+                self.show_or_report(next, shading, samples);
+            }
+            Action::SelectFabric(next) => {
+                if next < self.setup.fabrics.len() {
+                    self.show_or_report(next, shading, samples);
+                }
+            }
+            Action::RotateLight {
+                azimuth_deg,
+                elevation_deg,
+            } => {
+                if self.light.has_light() {
+                    self.light.rotate(azimuth_deg, elevation_deg);
+                } else {
+                    eprintln!("clothbake view: the scene has no directional light to move");
+                }
+            }
+            Action::ToggleLightSpin => self.light.spinning = !self.light.spinning,
+            Action::ToggleDirect => {
+                let next = match shading {
+                    Shading::Lookup => Shading::Direct,
+                    Shading::Direct => Shading::Lookup,
+                };
+                self.show_or_report(index, next, samples);
+            }
+            Action::Samples(more) => {
+                let next = step_samples(samples, more);
+                if shading == Shading::Direct {
+                    self.show_or_report(index, shading, next);
+                } else {
+                    // Takes effect when the direct shader is next shown.
+                    self.samples = next;
+                    println!("clothbake view: direct shader samples N={next}");
+                }
+            }
+            Action::ResetView => {
+                self.orbit.reset();
+                self.light.reset();
+            }
+        }
+    }
+
+    fn frame_settings(&self) -> FrameSettings {
+        let scene = &self.setup.scene;
+        FrameSettings {
+            camera: Camera::orbit(&self.orbit.camera),
+            lights: self
+                .light
+                .lights()
+                .iter()
+                .map(LightSource::from_scene)
+                .collect(),
+            exposure: scene.exposure as f32,
+            background: crate::render::BACKGROUND,
+        }
+    }
+
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        let now = Instant::now();
+        let interval = self.last_frame.map(|t| now - t);
+        self.light
+            .advance(interval.map_or(0.0, |d| d.as_secs_f64()));
+        let settings = self.frame_settings();
+        let Some(g) = &mut self.graphics else {
+            return;
+        };
+        if let Some(timer) = &mut g.timer {
+            for ms in timer.collect(&g.gpu) {
+                self.stats.gpu_time(ms);
+            }
+        }
+        if g.config.width == 0 || g.config.height == 0 {
+            // Minimised: nothing to draw until resized.
+            return;
+        }
+        let frame = match g.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(frame) => frame,
+            wgpu::CurrentSurfaceTexture::Suboptimal(frame) => {
+                // Draw this one; reconfigure for the next.
+                g.configure();
+                frame
+            }
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+                g.window.request_redraw();
+                return;
+            }
+            wgpu::CurrentSurfaceTexture::Outdated => {
+                g.configure();
+                g.window.request_redraw();
+                return;
+            }
+            wgpu::CurrentSurfaceTexture::Lost => {
+                if let Err(e) = g.recreate_surface() {
+                    self.fail(event_loop, e);
+                    return;
+                }
+                g.window.request_redraw();
+                return;
+            }
+            wgpu::CurrentSurfaceTexture::Validation => {
+                let message = g.take_uncaptured().unwrap_or_default();
+                self.fail(
+                    event_loop,
+                    ViewError::Render(format!("cannot acquire a surface texture: {message}")),
+                );
+                return;
+            }
+        };
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        let mut encoder = g
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("view frame"),
+            });
+        let targets = FrameTargets {
+            color: &view,
+            linear: None,
+            depth: &g.depth,
+            size: (g.config.width, g.config.height),
+        };
+        let writes = g.timer.as_mut().and_then(|t| t.begin());
+        g.renderer
+            .encode(&g.gpu.queue, &mut encoder, &targets, &settings, writes);
+        if let Some(timer) = &g.timer {
+            timer.resolve(&mut encoder);
+        }
+        g.gpu.queue.submit([encoder.finish()]);
+        if let Some(timer) = &mut g.timer {
+            timer.submitted();
+        }
+        g.window.pre_present_notify();
+        g.gpu.queue.present(frame);
+        if let Some(message) = g.take_uncaptured() {
+            self.fail(event_loop, ViewError::Render(message));
+            return;
+        }
+        self.last_frame = Some(now);
+        self.stats.frame(interval.map(|d| d.as_secs_f64() * 1000.0));
+        if now - self.last_title >= TITLE_PERIOD {
+            self.last_title = now;
+            let (interval_ms, gpu_ms) = self.stats.take_recent();
+            let title = controls::title(
+                &self.setup.fabrics[self.current].name,
+                &self.mode_label(),
+                interval_ms,
+                gpu_ms,
+            );
+            if let Some(g) = &self.graphics {
+                g.window.set_title(&title);
+            }
+        }
+        if let Some(limit) = self.setup.frames {
+            if self.stats.frames() >= limit as u64 {
+                event_loop.exit();
+                return;
+            }
+        }
+        if let Some(g) = &self.graphics {
+            g.window.request_redraw();
+        }
+    }
+}
+
+impl Graphics {
+    fn configure(&self) {
+        if self.config.width > 0 && self.config.height > 0 {
+            self.surface.configure(&self.gpu.device, &self.config);
+        }
+    }
+
+    fn resize(&mut self, size: PhysicalSize<u32>) {
+        self.config.width = size.width;
+        self.config.height = size.height;
+        if size.width > 0 && size.height > 0 {
+            self.depth = depth_view(&self.gpu, &self.config);
+        }
+        self.configure();
+    }
+
+    /// After [`wgpu::CurrentSurfaceTexture::Lost`]: a new surface for the same window.
+    fn recreate_surface(&mut self) -> Result<(), ViewError> {
+        self.surface = self
+            .instance
+            .create_surface(self.window.clone())
+            .map_err(|e| ViewError::Display(format!("cannot recreate the wgpu surface: {e}")))?;
+        self.configure();
+        Ok(())
+    }
+
+    fn take_uncaptured(&self) -> Option<String> {
+        self.uncaptured.lock().ok().and_then(|mut slot| slot.take())
+    }
+}
+
+/// A depth buffer of the surface's size (at least 1×1).
+fn depth_view(gpu: &GpuContext, config: &wgpu::SurfaceConfiguration) -> wgpu::TextureView {
+    gpu.device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("view depth"),
+            size: wgpu::Extent3d {
+                width: config.width.max(1),
+                height: config.height.max(1),
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        })
+        .create_view(&wgpu::TextureViewDescriptor::default())
+}
+
+/// The surface configuration: an sRGB format when offered (the renderer then leaves the
+/// sRGB encoding to the format; otherwise its shader encodes), else an 8-bit UNORM one,
+/// else the first; a present mode that does not wait for vertical blank when there is one
+/// (the frame time then shows the cost of a frame, not the display's refresh), else Fifo.
+fn surface_config(
+    instance: &wgpu::Instance,
+    surface: &wgpu::Surface<'_>,
+    size: PhysicalSize<u32>,
+) -> Result<wgpu::SurfaceConfiguration, ViewError> {
+    // Capabilities belong to the adapter; `GpuContext` does not hand out its
+    // `wgpu::Adapter`, so ask for the same one again (same instance, surface and environment
+    // make the same choice).
+    let adapter = pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(
+        instance,
+        Some(surface),
+    ))
+    .map_err(|e| ViewError::Display(format!("no adapter can present to the window: {e}")))?;
+    let caps = surface.get_capabilities(&adapter);
+    let unorm = [
+        wgpu::TextureFormat::Bgra8Unorm,
+        wgpu::TextureFormat::Rgba8Unorm,
+    ];
+    let format = caps
+        .formats
+        .iter()
+        .copied()
+        .find(|f| f.is_srgb())
+        .or_else(|| caps.formats.iter().copied().find(|f| unorm.contains(f)))
+        .or_else(|| caps.formats.first().copied())
+        .ok_or_else(|| {
+            ViewError::Display(format!(
+                "adapter {} cannot present to this window (no surface formats)",
+                adapter.get_info().name
+            ))
+        })?;
+    let present_mode = [wgpu::PresentMode::Mailbox, wgpu::PresentMode::Immediate]
+        .into_iter()
+        .find(|m| caps.present_modes.contains(m))
+        .unwrap_or(wgpu::PresentMode::Fifo);
+    Ok(wgpu::SurfaceConfiguration {
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        format,
+        width: size.width,
+        height: size.height,
+        present_mode,
+        desired_maximum_frame_latency: 2,
+        alpha_mode: caps
+            .alpha_modes
+            .first()
+            .copied()
+            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+        view_formats: vec![],
+        // The renderer writes display-referred sRGB (tone mapped to [0, 1]).
+        color_space: wgpu::SurfaceColorSpace::Srgb,
+    })
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.graphics.is_some() || self.error.is_some() {
+            return;
+        }
+        match self.create_graphics(event_loop) {
+            Ok(graphics) => {
+                println!("{}", controls::KEY_HELP);
+                graphics.window.request_redraw();
+                let label = graphics.renderer.brdf_label().to_string();
+                self.graphics = Some(graphics);
+                if self.setup.direct {
+                    // Asked for on the command line: failing to build it is an error.
+                    if let Err(message) = self.show(self.current, Shading::Direct, self.samples) {
+                        self.fail(event_loop, ViewError::Render(message));
+                    }
+                } else {
+                    let (name, mode) = (&self.setup.fabrics[self.current].name, self.mode_label());
+                    println!("clothbake view: {name}, {mode} ({label})");
+                    if let Some(g) = &self.graphics {
+                        g.window
+                            .set_title(&controls::title(name, &mode, None, None));
+                    }
+                }
+            }
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        if self.error.is_some() {
+            return;
+        }
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                if let Some(g) = &mut self.graphics {
+                    g.resize(size);
+                    g.window.request_redraw();
+                }
+            }
+            WindowEvent::RedrawRequested => self.redraw(event_loop),
+            WindowEvent::ModifiersChanged(modifiers) => {
+                self.shift = modifiers.state().shift_key();
+            }
+            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+                if let Some(action) = action_for_key(&event.logical_key, self.shift) {
+                    self.handle(event_loop, action);
+                }
+            }
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => self.dragging = state == ElementState::Pressed,
+            WindowEvent::CursorMoved { position, .. } => {
+                let now = (position.x, position.y);
+                if let (true, Some(last)) = (self.dragging, self.cursor) {
+                    self.orbit.drag(now.0 - last.0, now.1 - last.1);
+                }
+                self.cursor = Some(now);
+            }
+            WindowEvent::CursorLeft { .. } => self.cursor = None,
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y as f64,
+                    MouseScrollDelta::PixelDelta(p) => pixels_to_lines(p.y),
+                };
+                self.orbit.zoom(lines);
+            }
+            _ => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::os_message;
+
+    #[test]
+    fn os_errors_lose_their_source_location() {
+        assert_eq!(
+            os_message(&"os error at /src/x11/mod.rs:788: Failed to open connection to X server"),
+            "Failed to open connection to X server"
+        );
+        assert_eq!(os_message(&"the event loop broke"), "the event loop broke");
+    }
+}
