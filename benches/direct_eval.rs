@@ -1,17 +1,34 @@
 //! Nanoseconds per evaluation of F(wi, wo) for each built-in fabric: the converged direct
-//! evaluation, paper mode at N = 8 and 32 samples per thread, and the CPU lookup of the
-//! default table (baked at the default resolution during setup).
+//! evaluation, paper mode at N = 8 and 32 samples per thread, and the CPU lookup of each
+//! layout's default table (baked at the layout's default resolution during setup):
+//! `table_lookup` is thread_frame, `table_lookup_grid4d` grid4d.
 //!
 //! `cargo bench --bench direct_eval`; each figure is the median time of one batch of
-//! direction pairs divided by the batch size, reported by criterion per element.
+//! direction pairs divided by the batch size, reported by criterion per element. Sample
+//! counts and times are set so that the whole run takes about two minutes.
 
 use clothbake::bake::bake;
 use clothbake::fabric_file::FabricSet;
 use clothbake::model::{Integration, Patch};
 use clothbake::table::Layout;
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{
+    BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group,
+    criterion_main, measurement::WallTime,
+};
 use glam::DVec3;
 use std::hint::black_box;
+use std::time::Duration;
+
+/// Short runs: 20 samples over 2 s after a 0.5 s warm-up. A batch of the direct evaluation
+/// takes 15-50 ms, so flat sampling (the same iteration count per sample) keeps it within
+/// that time; the medians move by a few percent between runs, less than the ratios
+/// compared.
+fn configure(group: &mut BenchmarkGroup<WallTime>) {
+    group.sample_size(20);
+    group.warm_up_time(Duration::from_millis(500));
+    group.measurement_time(Duration::from_secs(2));
+    group.sampling_mode(SamplingMode::Flat);
+}
 
 /// A fixed batch of upper-hemisphere direction pairs from a golden-ratio sequence, so every
 /// run and every fabric times the same work.
@@ -40,6 +57,7 @@ fn direction_pairs(count: usize) -> Vec<(DVec3, DVec3)> {
 fn bench_direct_eval(c: &mut Criterion) {
     let pairs = direction_pairs(256);
     let mut group = c.benchmark_group("eval");
+    configure(&mut group);
     group.throughput(Throughput::Elements(pairs.len() as u64));
     for fabric in FabricSet::builtin().fabrics() {
         for (label, integration) in [
@@ -64,18 +82,23 @@ fn bench_direct_eval(c: &mut Criterion) {
 fn bench_lookup(c: &mut Criterion) {
     let pairs = direction_pairs(256);
     let mut group = c.benchmark_group("eval");
+    configure(&mut group);
     group.throughput(Throughput::Elements(pairs.len() as u64));
-    let layout = Layout::ThreadFrame;
-    for fabric in FabricSet::builtin().fabrics() {
-        let table = bake(fabric, layout, layout.default_resolution(), &|| {}).expect("bake");
-        group.bench_function(BenchmarkId::new("table_lookup", &fabric.name), |b| {
-            b.iter(|| {
-                pairs
-                    .iter()
-                    .map(|&(wi, wo)| table.lookup(black_box(wi), black_box(wo)))
-                    .sum::<DVec3>()
-            })
-        });
+    for (label, layout) in [
+        ("table_lookup", Layout::ThreadFrame),
+        ("table_lookup_grid4d", Layout::Grid4d),
+    ] {
+        for fabric in FabricSet::builtin().fabrics() {
+            let table = bake(fabric, layout, layout.default_resolution(), &|| {}).expect("bake");
+            group.bench_function(BenchmarkId::new(label, &fabric.name), |b| {
+                b.iter(|| {
+                    pairs
+                        .iter()
+                        .map(|&(wi, wo)| table.lookup(black_box(wi), black_box(wo)))
+                        .sum::<DVec3>()
+                })
+            });
+        }
     }
     group.finish();
 }

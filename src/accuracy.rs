@@ -52,31 +52,69 @@ fn set_error(values: &[(DVec3, DVec3)]) -> SetError {
     }
 }
 
+/// The direct evaluation of a fabric on `count` uniform and `count` highlight pairs of the
+/// validation sets, computed once so that many estimates (tables of several resolutions,
+/// paper mode at several N) are measured on the same pairs without evaluating it again.
+#[derive(Clone, Debug)]
+pub struct Reference {
+    /// (wi, wo, direct F) per uniform pair.
+    uniform: Vec<(DVec3, DVec3, DVec3)>,
+    /// (wi, wo, direct F) per highlight pair.
+    highlight: Vec<(DVec3, DVec3, DVec3)>,
+}
+
+impl Reference {
+    /// Evaluates `fabric` directly on `count` pairs of each validation set (in parallel).
+    pub fn new(fabric: &Fabric, count: usize) -> Self {
+        let patch = Patch::new(fabric, Integration::Direct);
+        let direct = |pairs: Vec<(DVec3, DVec3)>| -> Vec<(DVec3, DVec3, DVec3)> {
+            pairs
+                .into_par_iter()
+                .map(|(wi, wo)| (wi, wo, patch.eval(wi, wo)))
+                .collect()
+        };
+        Self {
+            uniform: direct(uniform_pairs(count, UNIFORM_SEED)),
+            highlight: direct(highlight_pairs(fabric, count, HIGHLIGHT_SEED)),
+        }
+    }
+
+    /// Pairs per set.
+    pub fn count(&self) -> usize {
+        self.uniform.len()
+    }
+
+    /// The errors of `estimate(wi, wo)` (an RGB estimate of F) against the direct values.
+    pub fn measure(&self, estimate: impl Fn(DVec3, DVec3) -> DVec3 + Sync) -> TableError {
+        // (wi, wo, estimate, direct value) per pair.
+        let compare = |set: &[(DVec3, DVec3, DVec3)]| -> Vec<(DVec3, DVec3, DVec3, DVec3)> {
+            set.par_iter()
+                .map(|&(wi, wo, truth)| (wi, wo, estimate(wi, wo), truth))
+                .collect()
+        };
+        let uniform = compare(&self.uniform);
+        let highlight = compare(&self.highlight);
+        let above = 15f64.to_radians().sin();
+        let values = |set: &[(DVec3, DVec3, DVec3, DVec3)],
+                      keep: &dyn Fn(DVec3, DVec3) -> bool|
+         -> Vec<(DVec3, DVec3)> {
+            set.iter()
+                .filter(|s| keep(s.0, s.1))
+                .map(|s| (s.2, s.3))
+                .collect()
+        };
+        TableError {
+            uniform: set_error(&values(&uniform, &|_, _| true)),
+            highlight: set_error(&values(&highlight, &|_, _| true)),
+            uniform_above_15deg: set_error(&values(&uniform, &|wi, wo| {
+                wi.z >= above && wo.z >= above
+            })),
+        }
+    }
+}
+
 /// Measures `table` against the direct evaluation of `fabric` on `count` uniform and
 /// `count` highlight pairs.
 pub fn measure(table: &Table, fabric: &Fabric, count: usize) -> TableError {
-    let patch = Patch::new(fabric, Integration::Direct);
-    // (wi, wo, table value, direct value) per pair.
-    let compare = |pairs: Vec<(DVec3, DVec3)>| -> Vec<(DVec3, DVec3, DVec3, DVec3)> {
-        pairs
-            .into_par_iter()
-            .map(|(wi, wo)| (wi, wo, table.lookup(wi, wo), patch.eval(wi, wo)))
-            .collect()
-    };
-    let uniform = compare(uniform_pairs(count, UNIFORM_SEED));
-    let highlight = compare(highlight_pairs(fabric, count, HIGHLIGHT_SEED));
-    let above = 15f64.to_radians().sin();
-    let values = |set: &[(DVec3, DVec3, DVec3, DVec3)],
-                  keep: &dyn Fn(DVec3, DVec3) -> bool|
-     -> Vec<(DVec3, DVec3)> {
-        set.iter()
-            .filter(|s| keep(s.0, s.1))
-            .map(|s| (s.2, s.3))
-            .collect()
-    };
-    TableError {
-        uniform: set_error(&values(&uniform, &|_, _| true)),
-        highlight: set_error(&values(&highlight, &|_, _| true)),
-        uniform_above_15deg: set_error(&values(&uniform, &|wi, wo| wi.z >= above && wo.z >= above)),
-    }
+    Reference::new(fabric, count).measure(|wi, wo| table.lookup(wi, wo))
 }

@@ -25,6 +25,7 @@ pub mod gpu;
 pub mod manifest;
 pub mod model;
 pub mod render;
+pub mod report;
 pub mod scene;
 pub mod table;
 pub mod table_file;

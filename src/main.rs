@@ -86,6 +86,17 @@ enum Command {
         #[arg(long, default_value_t = 4000, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
         pairs: u32,
     },
+    /// Measure speed against error for every fabric (tables of each layout over a range of
+    /// resolutions, paper mode at N = 1..64, bake times) and write REPORT.md, report.json
+    /// and PNG plots.
+    Report {
+        /// Fewer resolutions, pairs and repetitions (every fabric still).
+        #[arg(long)]
+        quick: bool,
+        /// Output directory.
+        #[arg(long, default_value = "report")]
+        out: PathBuf,
+    },
     /// Render the scene's cloth headless to PNG by table lookup (or the direct shader), print
     /// the adapter and the median GPU time per frame; with --reference compare with the CPU.
     Render {
@@ -367,6 +378,26 @@ fn run(cli: Cli) -> Result<(), String> {
                 samples,
                 direct: matches!(shader, ShaderArg::Direct),
             })
+        }
+        Command::Report { quick, out } => {
+            let fabrics = FabricSet::builtin().fabrics().to_vec();
+            let config = if quick {
+                clothbake::report::ReportConfig::quick(fabrics)
+            } else {
+                clothbake::report::ReportConfig::full(fabrics)
+            };
+            let command_line = std::env::args().collect();
+            let report = clothbake::report::run(&config, &out, command_line, &mut |line| {
+                eprintln!("report: {line}")
+            })
+            .map_err(|e| e.to_string())?;
+            println!(
+                "{}: {} in {:.0} s",
+                out.display(),
+                report.files.join(", "),
+                report.elapsed_seconds
+            );
+            Ok(())
         }
         Command::Check { table, pairs } => {
             let file = read_table(&table).map_err(|e| e.to_string())?;

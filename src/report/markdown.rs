@@ -1,0 +1,627 @@
+//! REPORT.md: the report's figures as Markdown tables, with the plots and the method.
+
+use super::{FabricReport, PaperPoint, Report, TablePoint, Verdict, plots, worst};
+use crate::table::Layout;
+use std::fmt::Write;
+
+/// The Markdown file's name in the output directory.
+pub const FILE_NAME: &str = "REPORT.md";
+
+fn pct(x: f64) -> String {
+    if !x.is_finite() {
+        "–".into()
+    } else if x >= 0.1 {
+        format!("{:.1}%", 100.0 * x)
+    } else if x >= 0.001 {
+        format!("{:.2}%", 100.0 * x)
+    } else {
+        format!("{:.3}%", 100.0 * x)
+    }
+}
+
+/// A number with thousands separators, no decimals (or two below 10).
+fn num(x: f64) -> String {
+    if !x.is_finite() {
+        return "–".into();
+    }
+    if x.abs() < 10.0 {
+        return format!("{x:.2}");
+    }
+    let digits = format!("{:.0}", x.abs());
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    if x < 0.0 { format!("-{out}") } else { out }
+}
+
+fn size(bytes: usize) -> String {
+    let kib = bytes as f64 / 1024.0;
+    if kib < 1024.0 {
+        format!("{kib:.0} KiB")
+    } else {
+        format!("{:.1} MiB", kib / 1024.0)
+    }
+}
+
+fn table_name(layout: Layout, resolution: u32) -> String {
+    format!("{layout} {resolution}")
+}
+
+fn ratio(x: Option<f64>) -> String {
+    x.map_or("–".into(), |r| {
+        if r >= 10.0 {
+            format!("{r:.0}×")
+        } else {
+            format!("{r:.2}×")
+        }
+    })
+}
+
+fn verdict_row(fabric: &str, t: &TablePoint, v: &Verdict) -> String {
+    let equal_error = v.equal_error.as_ref().map_or_else(
+        || "none up to the largest N".to_string(),
+        |p| format!("N = {} ({} ns)", p.samples, num(p.ns_per_eval)),
+    );
+    let equal_cost = v.equal_cost.as_ref().map_or_else(
+        || "none this cheap".to_string(),
+        |p| format!("N = {} ({})", p.samples, pct(p.error)),
+    );
+    let outcome = if v.table_wins {
+        "**table**"
+    } else {
+        "paper mode"
+    };
+    format!(
+        "| {fabric} | {} | {} | {} | {} | {equal_error} | {} | {equal_cost} | {} | {outcome} |\n",
+        table_name(t.layout, t.resolution),
+        size(t.bytes),
+        pct(v.error),
+        num(v.ns_per_eval),
+        ratio(v.speed_ratio),
+        ratio(v.error_ratio),
+    )
+}
+
+fn summary(report: &Report, md: &mut String) {
+    let all: Vec<(&FabricReport, &TablePoint, &Verdict)> = report
+        .fabrics
+        .iter()
+        .flat_map(|f| {
+            f.tables
+                .iter()
+                .zip(&f.verdicts)
+                .map(move |(t, v)| (f, t, v))
+        })
+        .collect();
+    let wins = |layout: Layout| {
+        let of: Vec<_> = all.iter().filter(|(_, t, _)| t.layout == layout).collect();
+        let won = of.iter().filter(|(_, _, v)| v.table_wins).count();
+        (won, of.len())
+    };
+    let _ = writeln!(md, "## Summary: where table lookup beats paper mode\n");
+    for layout in [Layout::ThreadFrame, Layout::Grid4d] {
+        let (won, of) = wins(layout);
+        let losers: Vec<String> = all
+            .iter()
+            .filter(|(_, t, v)| t.layout == layout && !v.table_wins)
+            .map(|(f, t, _)| format!("{} at {}", f.name, t.resolution))
+            .collect();
+        let _ = writeln!(
+            md,
+            "- **{layout}**: the table beats paper mode in {won} of {of} (fabric, resolution) \
+             cases{}.",
+            if losers.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; paper mode is at least as fast and as accurate for {}",
+                    losers.join(", ")
+                )
+            }
+        );
+    }
+    md.push('\n');
+    let _ = writeln!(
+        md,
+        "Per error budget, over the {} fabrics:\n",
+        report.fabrics.len()
+    );
+    budget_bullets(report, md);
+    let _ = writeln!(
+        md,
+        "\n\"Error\" is the worse of the uniform and highlight relative RMS errors; \"cost\" is \
+         CPU nanoseconds per evaluation on one thread. *Equal error*: the cheapest paper-mode N \
+         at least as accurate as the table, and how many times slower it is than the lookup. \
+         *Equal cost*: the most accurate paper-mode N no slower than the lookup, and how many \
+         times larger its error is. The table wins when no paper-mode point is both at least \
+         as accurate and at least as fast, which is the same as winning on both comparisons.\n"
+    );
+    budgets(report, md);
+    let _ = writeln!(md, "Every table against paper mode:\n");
+    let _ = writeln!(
+        md,
+        "| fabric | table | size | error | ns/lookup | paper at equal error | table faster by \
+         | paper at equal cost | table more accurate by | winner |"
+    );
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---|---:|---|---:|---|");
+    for (f, t, v) in &all {
+        md.push_str(&verdict_row(&f.name, t, v));
+    }
+    md.push('\n');
+}
+
+/// Error budgets of the summary table (worse of uniform and highlight relative RMS).
+const BUDGETS: [f64; 6] = [0.01, 0.02, 0.05, 0.1, 0.2, 0.5];
+
+/// The cheapest table and the cheapest paper-mode point of `f` within `budget`.
+fn cheapest(f: &FabricReport, budget: f64) -> (Option<&TablePoint>, Option<&PaperPoint>) {
+    let table = f
+        .tables
+        .iter()
+        .filter(|t| worst(&t.error) <= budget)
+        .min_by(|a, b| a.lookup.ns_per_eval.total_cmp(&b.lookup.ns_per_eval));
+    let paper = f
+        .paper
+        .iter()
+        .filter(|p| worst(&p.error) <= budget)
+        .min_by(|a, b| a.timing.ns_per_eval.total_cmp(&b.timing.ns_per_eval));
+    (table, paper)
+}
+
+/// One line per error budget: for how many fabrics the table or paper mode is the faster
+/// way to meet it, or the only one.
+fn budget_bullets(report: &Report, md: &mut String) {
+    for budget in BUDGETS {
+        let mut counts = [0usize; 5];
+        for f in &report.fabrics {
+            let k = match cheapest(f, budget) {
+                (Some(t), Some(p)) if t.lookup.ns_per_eval <= p.timing.ns_per_eval => 0,
+                (Some(_), Some(_)) => 1,
+                (Some(_), None) => 2,
+                (None, Some(_)) => 3,
+                (None, None) => 4,
+            };
+            counts[k] += 1;
+        }
+        let only_paper = format!(
+            "only paper mode reaches it (N ≤ {}; no table measured does)",
+            report.config.paper_samples.iter().max().unwrap_or(&0)
+        );
+        let labels = [
+            "a table is faster than paper mode",
+            "paper mode is faster than any table",
+            "only a table reaches it",
+            &only_paper,
+            "neither reaches it",
+        ];
+        let parts: Vec<String> = counts
+            .iter()
+            .zip(labels)
+            .filter(|(n, _)| **n > 0)
+            .map(|(n, label)| format!("{n} × {label}"))
+            .collect();
+        let _ = writeln!(
+            md,
+            "- error budget {:.0}% (CPU): {}",
+            100.0 * budget,
+            parts.join("; ")
+        );
+    }
+}
+
+/// For each fabric and error budget, the cheapest table and the cheapest paper-mode N that
+/// meet it, and which is faster.
+fn budgets(report: &Report, md: &mut String) {
+    let _ = writeln!(
+        md,
+        "**By error budget**: the cheapest table (any layout and resolution measured) and the \
+         cheapest paper-mode N whose error is within the budget, their CPU cost per \
+         evaluation, and how many times faster the faster one is.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| fabric | budget | cheapest table | cheapest paper mode | faster |"
+    );
+    let _ = writeln!(md, "|---|---:|---|---|---|");
+    for f in &report.fabrics {
+        for budget in BUDGETS {
+            let (table, paper) = cheapest(f, budget);
+            let table_cell = table.map_or("none measured".to_string(), |t| {
+                format!(
+                    "{} ({}, {} ns)",
+                    table_name(t.layout, t.resolution),
+                    pct(worst(&t.error)),
+                    num(t.lookup.ns_per_eval)
+                )
+            });
+            let paper_cell = paper.map_or("none up to the largest N".to_string(), |p| {
+                format!(
+                    "N = {} ({}, {} ns)",
+                    p.samples,
+                    pct(worst(&p.error)),
+                    num(p.timing.ns_per_eval)
+                )
+            });
+            let faster = match (table, paper) {
+                (Some(t), Some(p)) => {
+                    let r = p.timing.ns_per_eval / t.lookup.ns_per_eval;
+                    if r >= 1.0 {
+                        format!("**table**, {}", ratio(Some(r)))
+                    } else {
+                        format!("paper mode, {}", ratio(Some(1.0 / r)))
+                    }
+                }
+                (Some(_), None) => "**table** (only)".into(),
+                (None, Some(_)) => "paper mode (only)".into(),
+                (None, None) => "–".into(),
+            };
+            let _ = writeln!(
+                md,
+                "| {} | {:.0}% | {table_cell} | {paper_cell} | {faster} |",
+                f.name,
+                100.0 * budget
+            );
+        }
+    }
+    md.push('\n');
+}
+
+fn method(report: &Report, md: &mut String) {
+    let c = &report.config;
+    let _ = writeln!(md, "## Method\n");
+    let _ = writeln!(
+        md,
+        "- **Errors**: relative RMS over RGB, `sqrt(Σ|F_est − F|² / Σ|F|²)`, against the direct \
+         evaluation (MODEL.md's ground truth) on {} uniform pairs (both directions uniform \
+         over the upper hemisphere, seed 0x5eed0001), {} highlight pairs (on the specular cones \
+         of tangent samples, seed 0x5eed0002), and the uniform pairs with both directions at \
+         least 15° above the horizon — the sets of `clothbake check` (src/accuracy.rs, \
+         src/direction_sets.rs).",
+        c.error_pairs, c.error_pairs
+    );
+    let _ = writeln!(
+        md,
+        "- **CPU cost**: nanoseconds per evaluation on one thread over a fixed set of {} \
+         uniform pairs (seed 0x5eed0010), the median of {} samples, each at least {} ms long \
+         (whole passes over the set) after one warm-up pass. Table lookups are \
+         `Table::lookup` in f64 with the albedos applied; paper mode and the direct evaluation \
+         are `Patch::eval`. All timings of a fabric come from the same run, so their ratios \
+         compare like with like.",
+        c.timing_pairs,
+        c.timing_samples,
+        (c.min_sample_seconds * 1000.0).round()
+    );
+    let _ = writeln!(
+        md,
+        "- **Bake time**: wall-clock seconds of `bake::bake` on all {} worker threads, median \
+         of {} bake(s) per table{}. Speed-up: {} {} baked alternately on a 1-thread and a \
+         2-thread rayon pool, {} time(s) each, median over median.",
+        report.machine.bake_threads,
+        c.bake_repetitions,
+        if c.bake_repetitions > 1 {
+            format!(
+                " (a bake over {:.0} s is timed once, to bound the run time)",
+                c.repeat_bakes_below_seconds
+            )
+        } else {
+            String::new()
+        },
+        c.speedup_layout,
+        c.speedup_resolution,
+        c.speedup_repetitions
+    );
+    let _ = writeln!(
+        md,
+        "- Resolutions: thread_frame {:?}, grid4d {:?}; paper mode N = {:?}.\n",
+        c.thread_frame_resolutions, c.grid4d_resolutions, c.paper_samples
+    );
+}
+
+fn tables_section(report: &Report, md: &mut String) {
+    let _ = writeln!(md, "## Error against table size\n");
+    let _ = writeln!(md, "![error against size]({})\n", plots::ERROR_VS_SIZE);
+    let _ = writeln!(
+        md,
+        "| fabric | layout | resolution | size | uniform | highlight | both ≥ 15° | ns/lookup | bake (s) |"
+    );
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    for f in &report.fabrics {
+        for t in &f.tables {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
+                f.name,
+                t.layout,
+                t.resolution,
+                size(t.bytes),
+                pct(t.error.uniform.relative_rms),
+                pct(t.error.highlight.relative_rms),
+                pct(t.error.uniform_above_15deg.relative_rms),
+                num(t.lookup.ns_per_eval),
+                t.bake.seconds
+            );
+        }
+    }
+    md.push('\n');
+    let _ = writeln!(
+        md,
+        "**Pareto front** (size against error, both layouts): the tables no other table of \
+         the fabric beats on both size and error (worse of uniform and highlight). To meet an \
+         error budget, pick the first entry at or under it; for a memory budget, the last \
+         entry that fits.\n"
+    );
+    for f in &report.fabrics {
+        let mut front: Vec<&TablePoint> = f
+            .tables
+            .iter()
+            .filter(|t| {
+                !f.tables.iter().any(|o| {
+                    o.bytes <= t.bytes
+                        && worst(&o.error) <= worst(&t.error)
+                        && (o.bytes < t.bytes || worst(&o.error) < worst(&t.error))
+                })
+            })
+            .collect();
+        front.sort_by_key(|t| t.bytes);
+        let entries: Vec<String> = front
+            .iter()
+            .map(|t| {
+                format!(
+                    "{} ({}, {})",
+                    table_name(t.layout, t.resolution),
+                    size(t.bytes),
+                    pct(worst(&t.error))
+                )
+            })
+            .collect();
+        let _ = writeln!(md, "- {}: {}", f.name, entries.join(" → "));
+    }
+    md.push('\n');
+}
+
+fn paper_section(report: &Report, md: &mut String) {
+    let _ = writeln!(md, "## Error against CPU cost\n");
+    let _ = writeln!(md, "![error against cost]({})\n", plots::ERROR_VS_COST);
+    let _ = writeln!(
+        md,
+        "Paper mode at N samples per thread, against the direct evaluation (whose own cost is \
+         the first row of each fabric). Table lookups are in the table above and the plot.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| fabric | evaluation | uniform | highlight | both ≥ 15° | ns/eval | × cheaper than direct |"
+    );
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|");
+    for f in &report.fabrics {
+        let _ = writeln!(
+            md,
+            "| {} | direct | 0 | 0 | 0 | {} | 1 |",
+            f.name,
+            num(f.direct.ns_per_eval)
+        );
+        for p in &f.paper {
+            let _ = writeln!(
+                md,
+                "| {} | paper N = {} | {} | {} | {} | {} | {} |",
+                f.name,
+                p.samples,
+                pct(p.error.uniform.relative_rms),
+                pct(p.error.highlight.relative_rms),
+                pct(p.error.uniform_above_15deg.relative_rms),
+                num(p.timing.ns_per_eval),
+                ratio(Some(f.direct.ns_per_eval / p.timing.ns_per_eval))
+            );
+        }
+    }
+    md.push('\n');
+}
+
+fn bake_section(report: &Report, md: &mut String) {
+    let _ = writeln!(md, "## Bake time\n");
+    let _ = writeln!(
+        md,
+        "![bake time against resolution]({})\n",
+        plots::BAKE_TIME
+    );
+    let _ = writeln!(
+        md,
+        "Bake times are in the table of errors above. Speed-up from one to two threads \
+         (\"identical\": the two bakes gave bit-identical texels):\n"
+    );
+    let _ = writeln!(
+        md,
+        "| fabric | table | 1 thread (s) | 2 threads (s) | speed-up | identical |"
+    );
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---|");
+    for f in &report.fabrics {
+        let s = &f.speedup;
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.2} | {:.2} | {:.2}× | {} |",
+            f.name,
+            table_name(s.layout, s.resolution),
+            s.one_thread.seconds,
+            s.two_threads.seconds,
+            s.speedup,
+            if s.identical { "yes" } else { "**no**" }
+        );
+    }
+    md.push('\n');
+}
+
+fn gpu_section(report: &Report, md: &mut String) {
+    let g = &report.gpu;
+    let _ = writeln!(md, "## GPU\n");
+    let _ = writeln!(
+        md,
+        "Adapter: {}. {}.\n",
+        g.adapter.as_deref().unwrap_or("none found"),
+        g.status
+    );
+    if !g.measured {
+        return;
+    }
+    let [w, h] = g.frame.unwrap_or_default();
+    let _ = writeln!(
+        md,
+        "The standard scene (tables/scene.toml: the cloth draped over a sphere, a directional \
+         and a point light) rendered headless at {w}×{h} for each fabric, by the lookup shader \
+         (the fabric's largest thread_frame table measured above) and by the paper-mode shader \
+         at each N. Time: median of {} frames after a warm-up frame ({}). Image error: \
+         ‖render − reference‖₂/‖reference‖₂ of the linear radiance over the covered pixels, \
+         against the CPU reference render (direct evaluation of the same G-buffer).\n",
+        g.frames,
+        g.timing_source.as_deref().unwrap_or("unknown timing")
+    );
+    let _ = writeln!(md, "![GPU error against cost]({})\n", plots::GPU_COST);
+    let _ = writeln!(
+        md,
+        "| fabric | lookup ms/frame | lookup image error | paper at equal error | lookup faster by \
+         | paper at equal cost | lookup more accurate by | winner |"
+    );
+    let _ = writeln!(md, "|---|---:|---:|---|---:|---|---:|---|");
+    for f in &g.fabrics {
+        let Some(lookup) = f.points.iter().find(|p| p.samples.is_none()) else {
+            continue;
+        };
+        let paper: Vec<&super::gpu::GpuPoint> =
+            f.points.iter().filter(|p| p.samples.is_some()).collect();
+        let points: Vec<(f64, f64)> = paper
+            .iter()
+            .map(|p| (p.ms_per_frame, p.image_relative_l2))
+            .collect();
+        let (error, cost) = (lookup.image_relative_l2, lookup.ms_per_frame);
+        let (equal_error, equal_cost, dominated) = super::compare_with_paper(error, cost, &points);
+        let n = |i: usize| paper[i].samples.unwrap_or(0);
+        let _ = writeln!(
+            md,
+            "| {} | {:.2} | {} | {} | {} | {} | {} | {} |",
+            f.name,
+            cost,
+            pct(error),
+            equal_error.map_or("none up to the largest N".into(), |i| format!(
+                "N = {} ({:.2} ms)",
+                n(i),
+                points[i].0
+            )),
+            ratio(equal_error.map(|i| points[i].0 / cost)),
+            equal_cost.map_or("none this cheap".into(), |i| format!(
+                "N = {} ({})",
+                n(i),
+                pct(points[i].1)
+            )),
+            ratio(equal_cost.map(|i| points[i].1 / error)),
+            if dominated { "paper mode" } else { "**table**" }
+        );
+    }
+    md.push('\n');
+    let _ = writeln!(md, "Every shader:\n");
+    let _ = writeln!(
+        md,
+        "| fabric | shader | ms/frame | image error | PSNR (dB) | reference (s) |"
+    );
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|");
+    for f in &g.fabrics {
+        for p in &f.points {
+            let shader = match p.samples {
+                Some(n) => format!("paper N = {n}"),
+                None => format!("lookup ({})", f.table),
+            };
+            let _ = writeln!(
+                md,
+                "| {} | {shader} | {:.3} | {} | {:.1} | {:.1} |",
+                f.name,
+                p.ms_per_frame,
+                pct(p.image_relative_l2),
+                p.image_psnr_db,
+                f.reference_seconds
+            );
+        }
+    }
+    md.push('\n');
+}
+
+fn load(l: Option<[f64; 3]>) -> String {
+    l.map_or("unknown".into(), |l| format!("{:.1}", l[0]))
+}
+
+/// The whole REPORT.md.
+pub fn render(report: &Report) -> String {
+    let mut md = String::new();
+    let _ = writeln!(md, "# clothbake: speed against error\n");
+    let _ = writeln!(
+        md,
+        "Generated by `{}` ({} preset) on {}, clothbake {}{}, in {:.0} s. Regenerate with \
+         `cargo run --release -- report{}`; every figure below comes from that one run.\n",
+        report.command_line.join(" "),
+        report.config.mode,
+        report.date_utc,
+        report.clothbake_version,
+        report
+            .git_commit
+            .as_ref()
+            .map_or(String::new(), |c| format!(" (commit {c})")),
+        report.elapsed_seconds,
+        if report.config.mode == "quick" {
+            " --quick"
+        } else {
+            ""
+        }
+    );
+    let m = &report.machine;
+    let _ = writeln!(
+        md,
+        "Machine: {}, {} logical cores ({} bake threads), {}/{}. GPU adapter: {}. All figures \
+         are also in `report.json`. Time taken: {}; GPU section {:.0} s. Load average \
+         (1 min) {} at the start, {} at the end{}.\n",
+        m.cpu_model.as_deref().unwrap_or("unknown CPU"),
+        m.logical_cores,
+        m.bake_threads,
+        m.os,
+        m.arch,
+        report.gpu.adapter.as_deref().unwrap_or("none found"),
+        report
+            .fabrics
+            .iter()
+            .map(|f| format!("{} {:.0} s", f.name, f.seconds))
+            .collect::<Vec<_>>()
+            .join(", "),
+        report.gpu.seconds,
+        load(m.load_average_start),
+        load(m.load_average_end),
+        if m.load_average_start.is_some_and(|l| l[0] > 1.0)
+            || m.load_average_end.is_some_and(|l| l[0] > 1.0)
+        {
+            ": other processes shared the cores, so absolute times are slower than on an idle \
+             machine and the two-thread speed-up is understated; ratios within the run hold \
+             better"
+        } else {
+            ""
+        }
+    );
+    summary(report, &mut md);
+    method(report, &mut md);
+    tables_section(report, &mut md);
+    paper_section(report, &mut md);
+    bake_section(report, &mut md);
+    gpu_section(report, &mut md);
+    md
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{num, pct};
+
+    #[test]
+    fn number_formats() {
+        assert_eq!(num(1234567.4), "1,234,567");
+        assert_eq!(num(123.4), "123");
+        assert_eq!(num(1.234), "1.23");
+        assert_eq!(pct(0.0123), "1.23%");
+        assert_eq!(pct(0.25), "25.0%");
+    }
+}
