@@ -1,5 +1,7 @@
-//! The GPU lookup (`shaders/lookup.wgsl` as a `GpuBrdf`, through `clothbake::gpu::evaluate_pairs`) against the CPU lookup
-//! `Table::lookup`, on small baked tables of both layouts and seeded direction pairs.
+//! The GPU lookup (`shaders/lookup.wgsl` specialised for each table by
+//! `clothbake::gpu::layout::lookup_wgsl`, as a `GpuBrdf`, through
+//! `clothbake::gpu::evaluate_pairs`) against the CPU lookup `Table::lookup`, on small baked
+//! tables of both layouts and seeded direction pairs.
 //!
 //! Needs a wgpu adapter; without a GPU, Mesa's lavapipe (`apt-get install -y
 //! mesa-vulkan-drivers libvulkan1`). No adapter is a failure, not a skip.
@@ -13,8 +15,10 @@
 //!    the corners); over k filtered axes by k·δ·range. thread_frame filters 3 axes of the 4D
 //!    table (βH, θd', v; u is blended in f32 by the shader) and 2 of ⟨P⟩; grid4d filters
 //!    the 2 wo axes (the wi blend is in f32).
-//! 2. f32 arithmetic: the coordinates (atan2, asin, the warps) carry errors of a few ulp,
-//!    which shift every interpolation weight by far less than ε = 1e-4 of a texel (so
+//! 2. f32 arithmetic: the coordinates (atan2, asin, sin βH and cos βH as h.x/|h∥|, h.z/|h∥|,
+//!    the warps with their constant factors folded in f64 and rounded once to f32) carry
+//!    errors of a few ulp, which shift every interpolation weight by far less than ε = 1e-4
+//!    of a texel (so
 //!    ≤ ε·range per axis, 4 axes), cos²θd' = 1 − s² carries ~1e-7 absolute error (relative
 //!    1e-7/cos²θd' in reflection/cos²θd'), and the final sums ~1e-6 relative.
 //!

@@ -4,8 +4,9 @@
 //!
 //! - [`GpuContext`]: device and queue, the adapter's description, GPU timestamps if offered.
 //! - [`GpuTable`]: a baked [`crate::table::Table`] on the GPU, looked up by
-//!   `shaders/lookup.wgsl` (mirrors [`crate::table::Table::lookup`]; [`layout`] describes the
-//!   textures and uniforms).
+//!   `shaders/lookup.wgsl` specialised for the table (mirrors
+//!   [`crate::table::Table::lookup`]; [`layout`] describes the textures and generates the
+//!   WGSL, [`layout::lookup_wgsl`]).
 //! - [`GpuDirect`]: the model itself evaluated in the shader (`shaders/direct.wgsl`), paper
 //!   mode with N tangent samples per thread (mirrors `Integration::Paper(N)`).
 //! - [`evaluate_pairs`]: F(wi, wo) for a list of direction pairs by any [`GpuBrdf`]
