@@ -86,6 +86,12 @@ enum Command {
         #[arg(long, default_value_t = 4000, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
         pairs: u32,
     },
+    /// Print the WGSL lookup specialised for a table (`fn cloth_brdf(wi, wo)` and its
+    /// bindings, see src/gpu/table.rs), to use the table in another engine.
+    Wgsl {
+        /// The table (EXR).
+        table: PathBuf,
+    },
     /// Measure speed against error for every fabric (tables of each layout over a range of
     /// resolutions, paper mode at N = 1..64, bake times) and write REPORT.md, report.json
     /// and PNG plots.
@@ -397,6 +403,11 @@ fn run(cli: Cli) -> Result<(), String> {
                 report.files.join(", "),
                 report.elapsed_seconds
             );
+            Ok(())
+        }
+        Command::Wgsl { table } => {
+            let file = read_table(&table).map_err(|e| e.to_string())?;
+            print!("{}", clothbake::gpu::layout::lookup_wgsl(&file.table));
             Ok(())
         }
         Command::Check { table, pairs } => {

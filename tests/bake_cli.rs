@@ -279,3 +279,36 @@ fn interrupted_bake_leaves_the_previous_table_loadable() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `clothbake wgsl` prints exactly the shader the runtime uses for the table, and refuses a
+/// file that is not a table.
+#[test]
+fn wgsl_prints_the_specialised_lookup_of_a_table() {
+    let dir = temp_dir("wgsl");
+    let out = path_str(&dir);
+    let bake = clothbake(&[
+        "bake",
+        "--fabric",
+        "velvet",
+        "--layout",
+        "grid4d",
+        "--resolution",
+        "6",
+        "--out",
+        out,
+    ]);
+    assert!(bake.status.success(), "{}", text(&bake));
+    let table = dir.join("velvet.exr");
+    let printed = clothbake(&["wgsl", path_str(&table)]);
+    assert!(printed.status.success(), "{}", text(&printed));
+    let expected = clothbake::gpu::layout::lookup_wgsl(&read_table(&table).unwrap().table);
+    assert_eq!(String::from_utf8_lossy(&printed.stdout), expected);
+    assert!(expected.contains("fn cloth_brdf("));
+
+    let not_a_table = dir.join("scene.toml");
+    std::fs::write(&not_a_table, "fabrics = []\n").unwrap();
+    let refused = clothbake(&["wgsl", path_str(&not_a_table)]);
+    assert!(!refused.status.success());
+    assert!(text(&refused).contains("scene.toml"), "{}", text(&refused));
+    assert!(refused.stdout.is_empty());
+}
