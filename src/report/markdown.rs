@@ -593,15 +593,15 @@ pub fn render(report: &Report) -> String {
         report.gpu.seconds,
         load(m.load_average_start),
         load(m.load_average_end),
-        if m.load_average_start.is_some_and(|l| l[0] > 1.0)
-            || m.load_average_end.is_some_and(|l| l[0] > 1.0)
-        {
-            ": other processes shared the cores, so absolute times are slower than on an idle \
-             machine and the two-thread speed-up is understated; ratios within the run hold \
-             better"
-        } else {
-            ""
-        }
+        // The 1-minute average lags and counts this run's own threads, so it cannot say
+        // by itself whether other work slowed the run; the reader gets the figures and the
+        // rule to read them with.
+        format!(
+            " (the 1-minute average includes this run's own work, up to {} at full use of \
+             the cores; a higher value means other processes shared them and slowed the \
+             absolute times, while ratios measured within the run hold better)",
+            m.bake_threads
+        )
     );
     summary(report, &mut md);
     method(report, &mut md);

@@ -235,8 +235,7 @@ pub struct Machine {
     pub os: String,
     pub arch: String,
     /// The 1, 5 and 15 minute load averages (/proc/loadavg) when the run started and when
-    /// it ended: above about 1, other processes shared the cores and slowed the timings
-    /// (and the speed-up from one to two threads) down.
+    /// it ended; they include the run's own threads (up to `bake_threads` at full use).
     pub load_average_start: Option<[f64; 3]>,
     pub load_average_end: Option<[f64; 3]>,
 }
