@@ -577,7 +577,10 @@ pub fn render(report: &Report) -> String {
         md,
         "Machine: {}, {} logical cores ({} bake threads), {}/{}. GPU adapter: {}. All figures \
          are also in `report.json`. Time taken: {}; GPU section {:.0} s. Load average \
-         (1 min) {} at the start, {} at the end{}.\n",
+         (1 min) {} at the start, {} at the end (the 1-minute average includes this run's own \
+         work, up to {} at full use of the cores; a higher value means other processes shared \
+         them and slowed the absolute times, while ratios measured within the run hold \
+         better).\n",
         m.cpu_model.as_deref().unwrap_or("unknown CPU"),
         m.logical_cores,
         m.bake_threads,
@@ -593,15 +596,9 @@ pub fn render(report: &Report) -> String {
         report.gpu.seconds,
         load(m.load_average_start),
         load(m.load_average_end),
-        // The 1-minute average lags and counts this run's own threads, so it cannot say
-        // by itself whether other work slowed the run; the reader gets the figures and the
-        // rule to read them with.
-        format!(
-            " (the 1-minute average includes this run's own work, up to {} at full use of \
-             the cores; a higher value means other processes shared them and slowed the \
-             absolute times, while ratios measured within the run hold better)",
-            m.bake_threads
-        )
+        // The average lags and counts this run's own threads, so it cannot say by itself
+        // whether other work slowed the run: the reader gets the figures and how to read them.
+        m.bake_threads,
     );
     summary(report, &mut md);
     method(report, &mut md);
