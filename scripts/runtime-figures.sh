@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# GPU cost of the lookup shader against the direct (paper-mode) shader at 1024×1024, every
+# built-in fabric, on whatever adapter wgpu finds: the median ms per frame that
+# `clothbake render` prints for --shader lookup, and direct at N = 8 and 32, in one run.
+# Needs the default tables (clothbake bake). Prints a Markdown table.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=target/release/clothbake
+frames=${FRAMES:-5}
+fabrics=$("$bin" fabrics | awk '/^[a-z]/ {print $1}')
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+median_ms() { # the ms figure of the render command's "median X ms per frame" line
+    "$bin" render --width 1024 --height 1024 --frames "$frames" --out "$out/frame.png" "$@" |
+        tee -a "$out/log" | sed -n 's/.*median \([0-9.]*\) ms per frame.*/\1/p'
+}
+
+"$bin" render --width 64 --height 64 --frames 1 --out "$out/probe.png" \
+    --fabric "$(echo "$fabrics" | head -1)" | grep '^adapter'
+echo
+echo "| fabric | lookup ms | direct N = 8 ms | direct N = 32 ms | N = 8 / lookup | N = 32 / lookup |"
+echo "|---|---:|---:|---:|---:|---:|"
+for fabric in $fabrics; do
+    lookup=$(median_ms --fabric "$fabric")
+    n8=$(median_ms --fabric "$fabric" --shader direct --samples 8)
+    n32=$(median_ms --fabric "$fabric" --shader direct --samples 32)
+    awk -v f="$fabric" -v l="$lookup" -v a="$n8" -v b="$n32" \
+        'BEGIN { printf "| %s | %.0f | %.0f | %.0f | %.2f× | %.2f× |\n", f, l, a, b, a / l, b / l }'
+done
