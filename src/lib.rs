@@ -8,11 +8,14 @@
 //! - [`table_file`]: tables as EXR files, written atomically, read as untrusted input.
 //! - [`accuracy`]: a table's error against the direct evaluation.
 //! - [`scene`], [`manifest`]: what a scene needs baked, and what was baked from what.
+//! - [`gpu`]: the wgpu runtime core: a device, and tables and the direct model as GPU BRDFs.
 //! - [`render`]: cloth rendered with a GPU BRDF (table lookup or direct), headless or into a
 //!   window; the CPU reference of the same view and image error metrics.
 //! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
 //! - [`direction_sets`]: the seeded direction pairs on which errors are measured.
 //! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
+//! - [`report`]: `clothbake report`, speed against error for every fabric (Markdown, JSON,
+//!   plots).
 //! - [`viewer`]: `clothbake view`, the interactive window (winit): lookup or direct shading.
 
 pub mod accuracy;
