@@ -1,23 +1,49 @@
 #!/usr/bin/env python3
-"""Prints criterion's medians for the `eval` group as a Markdown table, nanoseconds per
-evaluation (each criterion iteration evaluates a batch of 256 pairs).
+"""Prints criterion's medians as Markdown tables: the `eval` group in nanoseconds per
+evaluation (each criterion iteration evaluates a batch of 256 pairs), and the `bake` group
+in texels per second.
 
-Usage: cargo bench --bench direct_eval && python3 scripts/bench-table.py
+Usage: cargo bench && python3 scripts/bench-table.py
 """
 import json
 import pathlib
 
 BATCH = 256
-root = pathlib.Path("target/criterion/eval")
-rows = {}
-for estimates in sorted(root.glob("*/*/new/estimates.json")):
-    mode, fabric = estimates.parts[-4], estimates.parts[-3]
-    median_ns = json.loads(estimates.read_text())["median"]["point_estimate"] / BATCH
-    rows.setdefault(fabric, {})[mode] = median_ns
-modes = ["direct", "paper_n32", "paper_n8", "table_lookup"]
+
+
+def medians(group):
+    """{fabric: {benchmark: (median ns per iteration, throughput elements or None)}}"""
+    rows = {}
+    for estimates in sorted(pathlib.Path("target/criterion", group).glob("*/*/new/estimates.json")):
+        name, fabric = estimates.parts[-4], estimates.parts[-3]
+        median_ns = json.loads(estimates.read_text())["median"]["point_estimate"]
+        benchmark = json.loads((estimates.parent / "benchmark.json").read_text())
+        elements = (benchmark.get("throughput") or {}).get("Elements")
+        rows.setdefault(fabric, {})[name] = (median_ns, elements)
+    return rows
+
+
+modes = ["direct", "paper_n32", "paper_n8", "table_lookup", "table_lookup_grid4d"]
 print("| fabric | " + " | ".join(f"{m} (ns/eval)" for m in modes) + " | direct / lookup |")
 print("|---|" + "---:|" * (len(modes) + 1))
-for fabric, by_mode in rows.items():
-    cells = [f"{by_mode[m]:,.0f}" if m in by_mode else "–" for m in modes]
-    ratio = by_mode["direct"] / by_mode["table_lookup"] if "table_lookup" in by_mode else float("nan")
+for fabric, by_mode in medians("eval").items():
+    ns = {m: v[0] / BATCH for m, v in by_mode.items()}
+    cells = [f"{ns[m]:,.0f}" if m in ns else "–" for m in modes]
+    ratio = ns["direct"] / ns["table_lookup"] if {"direct", "table_lookup"} <= ns.keys() else float("nan")
     print(f"| {fabric} | " + " | ".join(cells) + f" | {ratio:,.0f}× |")
+
+bake = medians("bake")
+if bake:
+    layouts = sorted({name for by_layout in bake.values() for name in by_layout})
+    print()
+    print("| fabric | " + " | ".join(f"bake {l} (texels/s)" for l in layouts) + " |")
+    print("|---|" + "---:|" * len(layouts))
+    for fabric, by_layout in bake.items():
+        cells = []
+        for l in layouts:
+            if l in by_layout and by_layout[l][1]:
+                ns, texels = by_layout[l]
+                cells.append(f"{texels / (ns * 1e-9):,.0f}")
+            else:
+                cells.append("–")
+        print(f"| {fabric} | " + " | ".join(cells) + " |")

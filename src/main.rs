@@ -419,13 +419,15 @@ fn run(cli: Cli) -> Result<(), String> {
                 |e| format!("baked in {:.1} s on {} threads", e.bake_seconds, e.threads),
             );
             println!(
-                "{}: fabric {}, {} at resolution {}, {} KiB of f16 texels, clothbake {}, {baked}",
+                "{}: fabric {}, {} at resolution {}, {} KiB of f16 texels, clothbake {} \
+                 (baker revision {}), {baked}",
                 table.display(),
                 file.table.fabric.name,
                 t.layout,
                 t.resolution,
                 t.byte_size() / 1024,
-                file.version
+                file.version,
+                file.baker_revision
             );
             for (label, e) in [
                 ("uniform pairs", error.uniform),

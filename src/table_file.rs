@@ -6,6 +6,7 @@
 //! | key | content |
 //! |---|---|
 //! | `clothbake_version` | the clothbake version that baked it |
+//! | `baker_revision` | [`BAKER_REVISION`] of the baker (absent: 1) |
 //! | `layout` | layout name (`grid4d`, `thread_frame`) |
 //! | `resolution` | layout resolution |
 //! | `integration` | the integration rule of every texel |
@@ -33,10 +34,21 @@ pub fn integration(layout: Layout) -> &'static str {
             "direct: per-segment midpoint rule, alpha spacing <= min(0.05 deg, sigma/16)"
         }
         Layout::ThreadFrame => {
-            "baking: per-segment midpoint rule, alpha spacing <= min(2 deg, sigma/6); masking tables direct"
+            "baking: per-segment midpoint rule, alpha spacing <= min(2 deg, sigma/6), masking planes included"
         }
     }
 }
+
+/// Revision of the baking code, recorded in every table and part of its hash: raised
+/// whenever a change makes the same inputs bake different texels, so that `bake` does not
+/// keep the tables of an earlier baker as up to date (a version number alone does not move
+/// between releases). Files without the field are revision 1.
+/// 2: thread_frame masking planes by the baking rule; filled texels symmetric across the
+/// u = 0 fold.
+pub const BAKER_REVISION: u32 = 2;
+
+/// The revision of files that do not record one.
+const FIRST_REVISION: u32 = 1;
 
 /// The name of the EXR text attribute holding the provenance.
 pub const ATTRIBUTE: &str = "clothbake";
@@ -66,6 +78,8 @@ pub enum TableFileError {
 pub struct TableFile {
     pub table: Table,
     pub version: String,
+    /// The [`BAKER_REVISION`] that baked it.
+    pub baker_revision: u32,
     pub hash: String,
 }
 
@@ -76,6 +90,10 @@ struct Provenance {
     #[serde(default, skip_serializing_if = "String::is_empty")]
     hash: String,
     clothbake_version: String,
+    // Not written for revision 1, so that the hashes of files from before the field existed
+    // still check out.
+    #[serde(default = "first_revision", skip_serializing_if = "is_first_revision")]
+    baker_revision: u32,
     layout: String,
     resolution: u32,
     integration: String,
@@ -87,6 +105,7 @@ impl Provenance {
         let mut provenance = Self {
             hash: String::new(),
             clothbake_version: env!("CARGO_PKG_VERSION").to_string(),
+            baker_revision: BAKER_REVISION,
             layout: layout.name().to_string(),
             resolution,
             integration: integration(layout).to_string(),
@@ -108,6 +127,14 @@ impl Provenance {
             .map(|b| format!("{b:02x}"))
             .collect()
     }
+}
+
+fn first_revision() -> u32 {
+    FIRST_REVISION
+}
+
+fn is_first_revision(revision: &u32) -> bool {
+    *revision == FIRST_REVISION
 }
 
 /// The hash a table of `fabric` at `layout`/`resolution` baked by this version carries:
@@ -364,6 +391,35 @@ pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError>
     Ok(TableFile {
         table,
         version: provenance.clothbake_version.clone(),
+        baker_revision: provenance.baker_revision,
         hash,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fabric_file::FabricSet;
+
+    /// Tables of an earlier baker stay readable (their recorded hash still checks out) but
+    /// no longer match what this baker would write, so `bake` bakes them again.
+    #[test]
+    fn earlier_baker_revisions_read_back_and_count_as_stale() {
+        let fabric = FabricSet::builtin().fabrics()[0].clone();
+        let current = Provenance::new(&fabric, Layout::ThreadFrame, 16);
+        let text = toml::to_string(&current).unwrap();
+        assert!(text.contains(&format!("baker_revision = {BAKER_REVISION}")));
+
+        let mut earlier = Provenance {
+            baker_revision: FIRST_REVISION,
+            ..current.clone()
+        };
+        earlier.hash = earlier.content_hash();
+        let earlier_text = toml::to_string(&earlier).unwrap();
+        assert!(!earlier_text.contains("baker_revision"), "{earlier_text}");
+        let read: Provenance = toml::from_str(&earlier_text).unwrap();
+        assert_eq!(read.baker_revision, FIRST_REVISION);
+        assert_eq!(read.content_hash(), read.hash);
+        assert_ne!(read.hash, expected_hash(&fabric, Layout::ThreadFrame, 16));
+    }
 }
