@@ -7,6 +7,7 @@
 use super::{Report, ReportError, worst};
 use crate::table::Layout;
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
@@ -152,6 +153,58 @@ fn grid_size(count: usize) -> (u32, u32) {
     (PANEL.0 * cols, PANEL.1 * rows)
 }
 
+/// The chart type every panel uses: f64 coordinates on both axes (log10 where logarithmic).
+type Chart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Titles and tick formatters of a panel's axes.
+struct Axes<'f> {
+    x: String,
+    y: String,
+    x_ticks: &'f dyn Fn(&f64) -> String,
+    y_ticks: &'f dyn Fn(&f64) -> String,
+}
+
+/// A captioned panel over `xs` × `ys` with its grid and labelled axes drawn.
+fn panel_chart<'a, 'b>(
+    panel: &'a DrawingArea<BitMapBackend<'b>, Shift>,
+    caption: &str,
+    xs: std::ops::Range<f64>,
+    ys: std::ops::Range<f64>,
+    axes: Axes<'_>,
+) -> Result<Chart<'a, 'b>, Box<dyn std::error::Error>> {
+    let mut chart = ChartBuilder::on(panel)
+        .caption(caption, (FONT, 18))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(56)
+        .build_cartesian_2d(xs, ys)?;
+    chart
+        .configure_mesh()
+        .x_desc(axes.x)
+        .y_desc(axes.y)
+        .x_label_formatter(axes.x_ticks)
+        .y_label_formatter(axes.y_ticks)
+        .x_labels(8)
+        .y_labels(8)
+        .light_line_style(LIGHT_LINE)
+        .label_style((FONT, 12))
+        .draw()?;
+    Ok(chart)
+}
+
+/// The legend of the labelled series, boxed, at `position`.
+fn draw_legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>, position: SeriesLabelPosition) -> PlotResult {
+    chart
+        .configure_series_labels()
+        .label_font((FONT, 12))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(position)
+        .draw()?;
+    Ok(())
+}
+
 /// Integers only (resolutions): other tick positions stay unlabelled.
 fn fmt_integer(v: &f64) -> String {
     if (v - v.round()).abs() < 1e-6 {
@@ -251,23 +304,18 @@ fn error_vs_size(report: &Report, path: &Path) -> PlotResult {
                     t.error.uniform_above_15deg.relative_rms,
                 ]
             }));
-            let mut chart = ChartBuilder::on(panel)
-                .caption(&f.name, (FONT, 18))
-                .margin(10)
-                .x_label_area_size(40)
-                .y_label_area_size(56)
-                .build_cartesian_2d(xs, ys)?;
-            chart
-                .configure_mesh()
-                .x_desc("table size (MiB)")
-                .x_label_formatter(&fmt_log_number)
-                .y_desc("relative RMS error")
-                .y_label_formatter(&fmt_log_percent)
-                .x_labels(8)
-                .y_labels(8)
-                .light_line_style(LIGHT_LINE)
-                .label_style((FONT, 12))
-                .draw()?;
+            let mut chart = panel_chart(
+                panel,
+                &f.name,
+                xs,
+                ys,
+                Axes {
+                    x: "table size (MiB)".into(),
+                    y: "relative RMS error".into(),
+                    x_ticks: &fmt_log_number,
+                    y_ticks: &fmt_log_percent,
+                },
+            )?;
             for layout in [Layout::ThreadFrame, Layout::Grid4d] {
                 let of: Vec<_> = f.tables.iter().filter(|t| t.layout == layout).collect();
                 let sets: [(&str, Marker, ErrorOf); 3] = [
@@ -293,13 +341,7 @@ fn error_vs_size(report: &Report, path: &Path) -> PlotResult {
                 }
             }
             if k == 0 {
-                chart
-                    .configure_series_labels()
-                    .label_font((FONT, 12))
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .position(SeriesLabelPosition::UpperRight)
-                    .draw()?;
+                draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
             }
         }
         Ok(())
@@ -330,23 +372,18 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                     .chain(f.tables.iter().map(|t| worst(&t.error))),
             );
             let (y0, y1) = (ys.start, ys.end);
-            let mut chart = ChartBuilder::on(panel)
-                .caption(&f.name, (FONT, 18))
-                .margin(10)
-                .x_label_area_size(40)
-                .y_label_area_size(56)
-                .build_cartesian_2d(xs, ys)?;
-            chart
-                .configure_mesh()
-                .x_desc("CPU ns per evaluation (one thread)")
-                .y_desc("relative RMS error (worse set)")
-                .x_label_formatter(&fmt_log_number)
-                .y_label_formatter(&fmt_log_percent)
-                .x_labels(8)
-                .y_labels(8)
-                .light_line_style(LIGHT_LINE)
-                .label_style((FONT, 12))
-                .draw()?;
+            let mut chart = panel_chart(
+                panel,
+                &f.name,
+                xs,
+                ys,
+                Axes {
+                    x: "CPU ns per evaluation (one thread)".into(),
+                    y: "relative RMS error (worse set)".into(),
+                    x_ticks: &fmt_log_number,
+                    y_ticks: &fmt_log_percent,
+                },
+            )?;
             let paper: Vec<(f64, f64)> = f
                 .paper
                 .iter()
@@ -389,13 +426,7 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                 series.label("direct (error 0)").legend(|(x, y)| {
                     PathElement::new(vec![(x, y), (x + 18, y)], DIRECT_COLOUR.stroke_width(2))
                 });
-                chart
-                    .configure_series_labels()
-                    .label_font((FONT, 12))
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .position(SeriesLabelPosition::UpperRight)
-                    .draw()?;
+                draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
             }
         }
         Ok(())
@@ -422,23 +453,18 @@ fn bake_time(report: &Report, path: &Path) -> PlotResult {
             let (x0, x1) = if x0 <= x1 { (x0, x1) } else { (0.0, 1.0) };
             let pad = 0.08 * (x1 - x0).max(1.0);
             let ys = log_range(all.iter().map(|p| 10f64.powf(p.1)));
-            let mut chart = ChartBuilder::on(panel)
-                .caption(format!("{layout} bake"), (FONT, 18))
-                .margin(10)
-                .x_label_area_size(40)
-                .y_label_area_size(56)
-                .build_cartesian_2d(x0 - pad..x1 + pad, ys)?;
-            chart
-                .configure_mesh()
-                .x_desc("resolution")
-                .y_desc(format!("seconds ({} threads)", report.machine.bake_threads))
-                .x_label_formatter(&fmt_integer)
-                .y_label_formatter(&fmt_log_number)
-                .x_labels(8)
-                .y_labels(8)
-                .light_line_style(LIGHT_LINE)
-                .label_style((FONT, 12))
-                .draw()?;
+            let mut chart = panel_chart(
+                panel,
+                &format!("{layout} bake"),
+                x0 - pad..x1 + pad,
+                ys,
+                Axes {
+                    x: "resolution".into(),
+                    y: format!("seconds ({} threads)", report.machine.bake_threads),
+                    x_ticks: &fmt_integer,
+                    y_ticks: &fmt_log_number,
+                },
+            )?;
             for (i, f) in report.fabrics.iter().enumerate() {
                 let colour = FABRIC_COLOURS[i % FABRIC_COLOURS.len()];
                 curve(
@@ -449,13 +475,7 @@ fn bake_time(report: &Report, path: &Path) -> PlotResult {
                     Some(&f.name),
                 )?;
             }
-            chart
-                .configure_series_labels()
-                .label_font((FONT, 12))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperLeft)
-                .draw()?;
+            draw_legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
         }
         Ok(())
     })
@@ -474,23 +494,18 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
         {
             let xs = log_range(f.points.iter().map(|p| p.ms_per_frame));
             let ys = log_range(f.points.iter().map(|p| p.image_relative_l2));
-            let mut chart = ChartBuilder::on(panel)
-                .caption(&f.name, (FONT, 18))
-                .margin(10)
-                .x_label_area_size(40)
-                .y_label_area_size(56)
-                .build_cartesian_2d(xs, ys)?;
-            chart
-                .configure_mesh()
-                .x_desc("GPU ms per frame")
-                .x_label_formatter(&fmt_log_number)
-                .y_desc("image error (relative L2)")
-                .y_label_formatter(&fmt_log_percent)
-                .x_labels(8)
-                .y_labels(8)
-                .light_line_style(LIGHT_LINE)
-                .label_style((FONT, 12))
-                .draw()?;
+            let mut chart = panel_chart(
+                panel,
+                &f.name,
+                xs,
+                ys,
+                Axes {
+                    x: "GPU ms per frame".into(),
+                    y: "image error (relative L2)".into(),
+                    x_ticks: &fmt_log_number,
+                    y_ticks: &fmt_log_percent,
+                },
+            )?;
             let paper: Vec<(f64, f64)> = f
                 .points
                 .iter()
@@ -523,13 +538,7 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
                 (k == 0).then_some(label.as_str()),
             )?;
             if k == 0 {
-                chart
-                    .configure_series_labels()
-                    .label_font((FONT, 12))
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .position(SeriesLabelPosition::UpperRight)
-                    .draw()?;
+                draw_legend(&mut chart, SeriesLabelPosition::UpperRight)?;
             }
         }
         Ok(())
