@@ -106,15 +106,11 @@ enum Command {
     /// Render the scene's cloth headless to PNG by table lookup (or the direct shader), print
     /// the adapter and the median GPU time per frame; with --reference compare with the CPU.
     Render {
-        /// Scene file (TOML): fabrics, camera, lights, mesh (default: tables/scene.toml's).
-        #[arg(long)]
-        scene: Option<PathBuf>,
+        #[command(flatten)]
+        scene: SceneArgs,
         /// Render only this fabric (default: every fabric of the scene, to OUT-STEM-NAME.png).
         #[arg(long)]
         fabric: Option<String>,
-        /// Directory of baked tables (NAME.exr).
-        #[arg(long, default_value = "tables")]
-        tables: PathBuf,
         /// Output PNG.
         #[arg(long)]
         out: PathBuf,
@@ -135,36 +131,50 @@ enum Command {
         /// STEM-error.png and prints the image error.
         #[arg(long)]
         reference: bool,
-        /// OBJ mesh with UVs to render instead of the scene's (the camera is aimed at it).
-        #[arg(long)]
-        mesh: Option<PathBuf>,
     },
     /// Open an interactive window showing the scene's cloth shaded by table lookup (or by the
     /// direct shader: key D). Keys are listed at start.
     View {
-        /// Scene file (TOML): fabrics, camera, lights, mesh (default: tables/scene.toml's).
-        #[arg(long)]
-        scene: Option<PathBuf>,
+        #[command(flatten)]
+        scene: SceneArgs,
         /// Fabric shown first (default: the scene's first).
         #[arg(long)]
         fabric: Option<String>,
-        /// Directory of baked tables (NAME.exr).
-        #[arg(long, default_value = "tables")]
-        tables: PathBuf,
-        /// OBJ mesh with UVs to show instead of the scene's mesh.
-        #[arg(long)]
-        mesh: Option<PathBuf>,
         /// Draw N frames, print the median frame time and exit.
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
         frames: Option<u32>,
         /// Paper-mode samples per thread of the direct shader (+/- change it).
-        #[arg(long, default_value_t = clothbake::viewer::DEFAULT_SAMPLES,
+        #[arg(long, default_value_t = clothbake::gpu::direct::DEFAULT_SAMPLES,
               value_parser = clap::value_parser!(u32).range(1..=1024))]
         samples: u32,
         /// Shading at start: table lookup, or the model in the shader (key D toggles).
         #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
         shader: ShaderArg,
     },
+}
+
+/// What `render` and `view` show: a scene, its tables and optionally a user's mesh.
+#[derive(clap::Args)]
+struct SceneArgs {
+    /// Scene file (TOML): fabrics, camera, lights, mesh (default: tables/scene.toml's).
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// Directory of baked tables (NAME.exr).
+    #[arg(long, default_value = "tables")]
+    tables: PathBuf,
+    /// OBJ mesh with UVs to show instead of the scene's (the camera is aimed at it).
+    #[arg(long)]
+    mesh: Option<PathBuf>,
+}
+
+impl SceneArgs {
+    /// The scene file's scene, or the built-in default scene.
+    fn load(&self) -> Result<Scene, String> {
+        match &self.scene {
+            Some(path) => Scene::load(path).map_err(|e| e.to_string()),
+            None => Ok(Scene::builtin()),
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -325,7 +335,6 @@ fn run(cli: Cli) -> Result<(), String> {
         Command::Render {
             scene,
             fabric,
-            tables,
             out,
             width,
             height,
@@ -333,58 +342,45 @@ fn run(cli: Cli) -> Result<(), String> {
             shader,
             samples,
             reference,
-            mesh,
         } => {
-            let scene = match scene {
-                Some(path) => Scene::load(&path).map_err(|e| e.to_string())?,
-                None => Scene::builtin(),
-            };
             let shader = match (shader, samples) {
                 (ShaderArg::Lookup, None) => render::job::Shader::Lookup,
                 (ShaderArg::Lookup, Some(_)) => {
                     return Err("--samples applies to --shader direct only".into());
                 }
                 (ShaderArg::Direct, n) => render::job::Shader::Direct {
-                    samples: n.unwrap_or(32),
+                    samples: n.unwrap_or(clothbake::gpu::direct::DEFAULT_SAMPLES),
                 },
             };
             let job = render::job::RenderJob {
-                scene,
+                scene: scene.load()?,
                 fabric,
-                tables,
+                tables: scene.tables,
                 out,
                 width,
                 height,
                 frames,
                 shader,
                 reference,
-                mesh,
+                mesh: scene.mesh,
             };
             render::job::run(&job, &mut |line| println!("{line}")).map(|_| ())
         }
         Command::View {
             scene,
             fabric,
-            tables,
-            mesh,
             frames,
             samples,
             shader,
-        } => {
-            let scene = match scene {
-                Some(path) => Scene::load(&path).map_err(|e| e.to_string())?,
-                None => Scene::builtin(),
-            };
-            view(clothbake::viewer::ViewOptions {
-                scene,
-                fabric,
-                tables,
-                mesh,
-                frames,
-                samples,
-                direct: matches!(shader, ShaderArg::Direct),
-            })
-        }
+        } => view(clothbake::viewer::ViewOptions {
+            scene: scene.load()?,
+            fabric,
+            tables: scene.tables,
+            mesh: scene.mesh,
+            frames,
+            samples,
+            direct: matches!(shader, ShaderArg::Direct),
+        }),
         Command::Report { quick, out } => {
             let fabrics = FabricSet::builtin().fabrics().to_vec();
             let config = if quick {

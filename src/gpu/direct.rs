@@ -17,6 +17,10 @@ pub const DIRECT_WGSL: &str = include_str!("../../shaders/direct.wgsl");
 /// converged rule is the better tool.
 pub const MAX_SAMPLES: u32 = 1024;
 
+/// Tangent samples per thread of the direct shader when none are asked for: N = 32, the
+/// comparison point of the runtime's cost and error figures.
+pub const DEFAULT_SAMPLES: u32 = 32;
+
 /// One thread family as `ClothDirectThread` of direct.wgsl reads it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]

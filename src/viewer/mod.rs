@@ -27,9 +27,7 @@ use std::path::{Path, PathBuf};
 
 pub use controls::KEY_HELP;
 
-/// Default paper-mode samples per thread of the direct shader (the comparison
-/// point, N = 32).
-pub const DEFAULT_SAMPLES: u32 = 32;
+pub use crate::gpu::direct::DEFAULT_SAMPLES;
 
 /// What `clothbake view` was asked to show.
 #[derive(Clone, Debug)]
