@@ -1,8 +1,11 @@
 //! `clothbake bake` and `clothbake check` as users run them: manifests, scenes, budgets,
 //! bad arguments, and an interrupted bake leaving the previous table intact.
 
+mod common;
+use common::*;
+
 use clothbake::table_file::read_table;
-use std::path::{Path, PathBuf};
+
 use std::process::{Command, Output};
 use std::time::Duration;
 
@@ -11,25 +14,6 @@ fn clothbake(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("spawn clothbake")
-}
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
-}
-
-fn temp_dir(label: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("clothbake-{label}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn path_str(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 #[test]
@@ -48,10 +32,14 @@ fn unchanged_fabrics_are_not_baked_again_and_changed_ones_are() {
         out,
     ];
     let first = clothbake(&args);
-    assert!(first.status.success(), "{}", text(&first));
-    assert!(text(&first).contains("baked in"));
+    assert!(first.status.success(), "{}", output_text(&first));
+    assert!(output_text(&first).contains("baked in"));
     let second = clothbake(&args);
-    assert!(text(&second).contains("up to date"), "{}", text(&second));
+    assert!(
+        output_text(&second).contains("up to date"),
+        "{}",
+        output_text(&second)
+    );
     // A changed fabric (here through a fabric file) is baked again.
     let fabrics = dir.join("fabrics.toml");
     std::fs::write(
@@ -62,7 +50,11 @@ fn unchanged_fabrics_are_not_baked_again_and_changed_ones_are() {
     let mut changed = args.to_vec();
     changed.extend(["--fabrics", path_str(&fabrics)]);
     let third = clothbake(&changed);
-    assert!(text(&third).contains("baked in"), "{}", text(&third));
+    assert!(
+        output_text(&third).contains("baked in"),
+        "{}",
+        output_text(&third)
+    );
     assert_eq!(
         read_table(&dir.join("velvet.exr"))
             .unwrap()
@@ -74,9 +66,9 @@ fn unchanged_fabrics_are_not_baked_again_and_changed_ones_are() {
     );
     let check = clothbake(&["check", path_str(&dir.join("velvet.exr")), "--pairs", "200"]);
     assert!(
-        check.status.success() && text(&check).contains("baked in"),
+        check.status.success() && output_text(&check).contains("baked in"),
         "{}",
-        text(&check)
+        output_text(&check)
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
@@ -91,11 +83,11 @@ fn scene_bakes_only_its_fabrics_and_error_budget_picks_a_resolution() {
     )
     .unwrap();
     let out = clothbake(&["bake", "--scene", path_str(&scene), "--out", path_str(&dir)]);
-    assert!(out.status.success(), "{}", text(&out));
+    assert!(out.status.success(), "{}", output_text(&out));
     assert!(
-        text(&out).contains("chosen for the error budget"),
+        output_text(&out).contains("chosen for the error budget"),
         "{}",
-        text(&out)
+        output_text(&out)
     );
     let names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
@@ -107,7 +99,7 @@ fn scene_bakes_only_its_fabrics_and_error_budget_picks_a_resolution() {
         "{names:?}"
     );
     // Every rung tried before the chosen one missed the budget, the chosen one met it.
-    let tried: Vec<(u32, f64)> = text(&out)
+    let tried: Vec<(u32, f64)> = output_text(&out)
         .lines()
         .filter_map(|l| {
             let rest = l.strip_prefix("silk_shot: grid4d at resolution ")?;
@@ -183,9 +175,9 @@ fn bad_arguments_and_scene_files_exit_non_zero_with_a_message() {
         let result = clothbake(&args);
         assert!(!result.status.success(), "{args:?} succeeded");
         assert!(
-            text(&result).contains(expected),
+            output_text(&result).contains(expected),
             "{args:?}: {}",
-            text(&result)
+            output_text(&result)
         );
     }
     std::fs::remove_dir_all(dir).unwrap();
@@ -209,7 +201,7 @@ fn interrupted_bake_leaves_the_previous_table_loadable() {
         "--out",
         out,
     ]);
-    assert!(first.status.success(), "{}", text(&first));
+    assert!(first.status.success(), "{}", output_text(&first));
     let before = std::fs::read(&table).unwrap();
     let mut kills = 0;
     // A grid4d bake at resolution 12 takes about a second on two cores; the delays span its
@@ -266,7 +258,7 @@ fn interrupted_bake_leaves_the_previous_table_loadable() {
         "--out",
         out,
     ]);
-    assert!(last.status.success(), "{}", text(&last));
+    assert!(last.status.success(), "{}", output_text(&last));
     let stray: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -297,10 +289,10 @@ fn wgsl_prints_the_specialised_lookup_of_a_table() {
         "--out",
         out,
     ]);
-    assert!(bake.status.success(), "{}", text(&bake));
+    assert!(bake.status.success(), "{}", output_text(&bake));
     let table = dir.join("velvet.exr");
     let printed = clothbake(&["wgsl", path_str(&table)]);
-    assert!(printed.status.success(), "{}", text(&printed));
+    assert!(printed.status.success(), "{}", output_text(&printed));
     let expected = clothbake::gpu::layout::lookup_wgsl(&read_table(&table).unwrap().table);
     assert_eq!(String::from_utf8_lossy(&printed.stdout), expected);
     assert!(expected.contains("fn cloth_brdf("));
@@ -309,6 +301,10 @@ fn wgsl_prints_the_specialised_lookup_of_a_table() {
     std::fs::write(&not_a_table, "fabrics = []\n").unwrap();
     let refused = clothbake(&["wgsl", path_str(&not_a_table)]);
     assert!(!refused.status.success());
-    assert!(text(&refused).contains("scene.toml"), "{}", text(&refused));
+    assert!(
+        output_text(&refused).contains("scene.toml"),
+        "{}",
+        output_text(&refused)
+    );
     assert!(refused.stdout.is_empty());
 }

@@ -37,6 +37,7 @@
 //! (velvet, R = 2.2e-4).
 
 mod common;
+use common::*;
 
 use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, evaluate_pairs};
@@ -51,19 +52,6 @@ const LOBE_REACH: f64 = 6.0;
 const ATAN2_ARGUMENT_ERROR: f64 = 1.2e-7;
 /// Absolute floor relative to the largest |F| of the set (module doc).
 const FLOOR: f64 = 1e-7;
-
-fn context() -> GpuContext {
-    match GpuContext::new() {
-        Ok(context) => {
-            println!("GPU adapter: {}", context.adapter);
-            context
-        }
-        Err(e) => panic!(
-            "the GPU direct test needs a wgpu adapter and found none: {e}\n\
-             (CI installs lavapipe: apt-get install -y mesa-vulkan-drivers libvulkan1)"
-        ),
-    }
-}
 
 fn to_f32(pairs: Vec<(DVec3, DVec3)>) -> Vec<(Vec3, Vec3)> {
     pairs
@@ -228,7 +216,7 @@ fn compare(
 
 /// A GPU context and the device's measured `atan2` error, printed.
 fn setup() -> (GpuContext, f64) {
-    let context = context();
+    let context = gpu_context();
     let error = atan2_error(&context);
     println!("device atan2: max absolute error {error:.2e}");
     (context, error)
@@ -310,7 +298,7 @@ fn hard_cases_match_cpu_paper_mode() {
 
 #[test]
 fn sample_count_is_validated() {
-    let context = context();
+    let context = gpu_context();
     let fabric = common::fabric("velvet");
     for samples in [0, gpu_max_samples() + 1] {
         match GpuDirect::new(&context, &fabric, samples) {

@@ -37,10 +37,13 @@
 //! 1e-6. The test asserts |GPU − CPU| ≤ bound everywhere, and prints the largest absolute
 //! and relative differences and the largest ratio difference/bound.
 
+mod common;
+use common::*;
+
 use clothbake::bake::bake;
 use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::fabric_file::FabricSet;
-use clothbake::gpu::{GpuBrdf, GpuContext, GpuTable, evaluate_pairs};
+use clothbake::gpu::{GpuBrdf, GpuTable, evaluate_pairs};
 use clothbake::table::thread_frame::ThreadGeometry;
 use clothbake::table::{Geometry, Layout, Table, octahedral, quadrilinear_corners};
 use glam::{DVec3, Vec3};
@@ -54,19 +57,6 @@ const RELATIVE: f64 = 1e-5;
 const ABSOLUTE: f64 = 1e-6;
 /// |u| (radians) below which f32 may fold a pair to the other side of u = 0.
 const FOLD_EPSILON: f64 = 1e-5;
-
-fn context() -> GpuContext {
-    match GpuContext::new() {
-        Ok(context) => {
-            println!("GPU adapter: {}", context.adapter);
-            context
-        }
-        Err(e) => panic!(
-            "the GPU lookup test needs a wgpu adapter and found none: {e}\n\
-             (CI installs lavapipe: apt-get install -y mesa-vulkan-drivers libvulkan1)"
-        ),
-    }
-}
 
 /// 2000 uniform and 2000 highlight pairs, rounded to f32 (both sides see the same input).
 fn pairs(table: &Table, seed: u64) -> Vec<(Vec3, Vec3)> {
@@ -205,7 +195,7 @@ fn bound(table: &Table, wi: DVec3, wo: DVec3, cpu: DVec3) -> (DVec3, bool) {
 /// prints the differences and asserts the bound.
 fn compare(fabric_name: &str, layout: Layout, resolution: u32, seed: u64) {
     let start = Instant::now();
-    let context = context();
+    let context = gpu_context();
     let fabric = FabricSet::builtin()
         .get(fabric_name)
         .expect("built-in fabric")

@@ -12,6 +12,9 @@
 //! `CLOTHBAKE_UPDATE_REFERENCE=1 cargo test --release --test render -- --nocapture`; the
 //! adapter that made them is recorded in tests/data/render/DEVICE.
 
+mod common;
+use common::*;
+
 use clothbake::bake::bake;
 use clothbake::fabric_file::FabricSet;
 use clothbake::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuTable};
@@ -32,19 +35,6 @@ const RESOLUTION: u32 = 16;
 const SIDE: u32 = 96;
 /// Grid quads per side of the drape in the test scene.
 const MESH_RESOLUTION: u32 = 64;
-
-fn context() -> GpuContext {
-    match GpuContext::new() {
-        Ok(context) => {
-            println!("GPU adapter: {}", context.adapter);
-            context
-        }
-        Err(e) => panic!(
-            "the render tests need a wgpu adapter and found none: {e}\n\
-             (CI installs lavapipe: apt-get install -y mesa-vulkan-drivers libvulkan1)"
-        ),
-    }
-}
 
 fn fabrics() -> Vec<Fabric> {
     FabricSet::builtin().fabrics().to_vec()
@@ -97,7 +87,7 @@ fn luminance(p: &[f32; 4]) -> f64 {
 
 #[test]
 fn render_is_not_blank_and_changes_when_the_light_moves() {
-    let context = context();
+    let context = gpu_context();
     let brdf = GpuTable::new(&context, table("linen_plain")).unwrap();
     let lit = settings();
     let image = render(&context, &brdf, &lit);
@@ -151,7 +141,7 @@ fn direct_shader_render_equals_cpu_paper_mode_shading_of_the_same_pixels() {
     // The render pass and the CPU shade the same G-buffer pixels with the same paper-mode F,
     // so the difference is f32 arithmetic alone (frame, directions, irradiance, F): a wrong
     // frame, light or falloff shows up as percent-level differences.
-    let context = context();
+    let context = gpu_context();
     let settings = settings();
     for name in ["polyester_satin_charmeuse", "velvet"] {
         let fabric = FabricSet::builtin().get(name).unwrap().clone();
@@ -204,7 +194,7 @@ fn lookup_and_references(
 
 #[test]
 fn lookup_render_matches_the_cpu_lookup_and_approaches_the_direct_reference() {
-    let context = context();
+    let context = gpu_context();
     let settings = settings();
     for (name, gpu, cpu_lookup, direct) in lookup_and_references(&context) {
         let device = image_error(&gpu, &cpu_lookup, settings.exposure).unwrap();
@@ -249,7 +239,7 @@ fn reference_path(name: &str) -> PathBuf {
 
 #[test]
 fn committed_reference_images_still_come_out() {
-    let context = context();
+    let context = gpu_context();
     let settings = settings();
     let device_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/render/DEVICE");
     if std::env::var_os("CLOTHBAKE_UPDATE_REFERENCE").is_some() {
@@ -323,14 +313,6 @@ fn clothbake(args: &[&str]) -> std::process::Output {
         .expect("spawn clothbake")
 }
 
-fn text(output: &std::process::Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
-}
-
 #[test]
 fn render_command_writes_frame_reference_and_error_map_or_explains_what_is_missing() {
     let dir = std::env::temp_dir().join(format!("clothbake-render-cli-{}", std::process::id()));
@@ -349,9 +331,9 @@ fn render_command_writes_frame_reference_and_error_map_or_explains_what_is_missi
     ]);
     assert!(!missing.status.success());
     assert!(
-        text(&missing).contains("clothbake bake"),
+        output_text(&missing).contains("clothbake bake"),
         "{}",
-        text(&missing)
+        output_text(&missing)
     );
     let baked = clothbake(&[
         "bake",
@@ -362,7 +344,7 @@ fn render_command_writes_frame_reference_and_error_map_or_explains_what_is_missi
         "--out",
         &d("tables"),
     ]);
-    assert!(baked.status.success(), "{}", text(&baked));
+    assert!(baked.status.success(), "{}", output_text(&baked));
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, "fabrics = [\"velvet\"]\n[mesh]\nresolution = 32\n").unwrap();
     let out = clothbake(&[
@@ -381,7 +363,7 @@ fn render_command_writes_frame_reference_and_error_map_or_explains_what_is_missi
         "2",
         "--reference",
     ]);
-    let report = text(&out);
+    let report = output_text(&out);
     println!("{report}");
     assert!(out.status.success(), "{report}");
     assert!(
@@ -415,6 +397,10 @@ fn render_command_writes_frame_reference_and_error_map_or_explains_what_is_missi
         all.extend(args.iter().copied());
         let bad = clothbake(&all);
         assert!(!bad.status.success(), "{args:?}");
-        assert!(text(&bad).contains(needle), "{args:?}: {}", text(&bad));
+        assert!(
+            output_text(&bad).contains(needle),
+            "{args:?}: {}",
+            output_text(&bad)
+        );
     }
 }

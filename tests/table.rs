@@ -7,13 +7,6 @@ use clothbake::bake::bake;
 use clothbake::table::{Geometry, Layout, Table, grid4d};
 use clothbake::table_file::{TableFileError, read_table, write_table};
 use common::*;
-use std::path::PathBuf;
-
-fn temp_dir(label: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("clothbake-{label}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn small_table(name: &str, resolution: u32) -> Table {
     bake(&fabric(name), Layout::Grid4d, resolution, &|| {}).unwrap()

@@ -3,6 +3,9 @@
 //! draws `--frames N` frames and exits 0; without tables or without a display it fails with
 //! a message that says what is missing.
 
+mod common;
+use common::*;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -11,25 +14,6 @@ use std::time::{Duration, Instant};
 /// A run takes a few seconds on two cores (device, shader compilation, 30 frames on
 /// lavapipe); this is a hang guard, not a speed check.
 const HANG_GUARD: Duration = Duration::from_secs(300);
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
-}
-
-fn temp_dir(label: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("clothbake-view-{label}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn path_str(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
 
 /// The clothbake binary with `args`, without any Wayland display (so that winit takes the
 /// X11 display it is given, or none) and with the Vulkan loader's runtime directory set.
@@ -116,7 +100,7 @@ fn bake_small_tables(dir: &Path) -> PathBuf {
         "--out",
         path_str(dir),
     ]);
-    assert!(bake.status.success(), "{}", text(&bake));
+    assert!(bake.status.success(), "{}", output_text(&bake));
     let scene = dir.join("scene.toml");
     std::fs::write(
         &scene,
@@ -152,7 +136,7 @@ fn view_draws_the_requested_frames_under_xvfb() {
         "30",
     ];
     let output = run(clothbake_command("xvfb-run", &args));
-    let all = text(&output);
+    let all = output_text(&output);
     println!("{all}");
     assert!(output.status.success(), "view failed: {all}");
     let adapter = all
@@ -192,7 +176,7 @@ fn view_without_tables_or_display_fails_with_a_clear_message() {
     ] {
         let output = clothbake(&args);
         assert!(!output.status.success(), "{args:?} succeeded");
-        let all = text(&output);
+        let all = output_text(&output);
         assert!(all.contains(expected), "{args:?}: {all}");
         assert!(!all.contains("panicked"), "{args:?}: {all}");
     }
@@ -212,7 +196,7 @@ fn view_without_tables_or_display_fails_with_a_clear_message() {
     );
     command.env_remove("DISPLAY");
     let output = run(command);
-    let all = text(&output);
+    let all = output_text(&output);
     assert!(!output.status.success(), "view without a display succeeded");
     assert!(all.contains("cannot open a window"), "{all}");
     assert!(!all.contains("panicked"), "{all}");

@@ -3,8 +3,47 @@
 #![allow(dead_code)] // each test binary uses a different subset
 
 use clothbake::fabric_file::FabricSet;
+use clothbake::gpu::GpuContext;
 use clothbake::model::{Fabric, Thread};
 use glam::DVec3;
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+/// A device on whatever adapter wgpu finds, which the test prints; a test that needs one
+/// fails without it (CI installs lavapipe through scripts/setup.sh).
+pub fn gpu_context() -> GpuContext {
+    match GpuContext::new() {
+        Ok(context) => {
+            println!("GPU adapter: {}", context.adapter);
+            context
+        }
+        Err(e) => panic!(
+            "this test needs a wgpu adapter and found none: {e}\n\
+             (CI installs lavapipe: apt-get install -y mesa-vulkan-drivers libvulkan1)"
+        ),
+    }
+}
+
+/// A fresh, empty directory `clothbake-LABEL-PID` under the system's temporary directory.
+pub fn temp_dir(label: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("clothbake-{label}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A command's standard output followed by its standard error.
+pub fn output_text(output: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    )
+}
+
+pub fn path_str(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
 
 pub fn builtin() -> Vec<Fabric> {
     FabricSet::builtin().fabrics().to_vec()
