@@ -669,14 +669,24 @@ pub struct FrameTiming {
 impl FrameTiming {
     /// The median of [`FrameTiming::frame_ms`] (mean of the middle two for an even count).
     pub fn median_ms(&self) -> f64 {
-        let mut v = self.frame_ms.clone();
-        v.sort_by(f64::total_cmp);
-        match v.len() {
-            0 => f64::NAN,
-            n if n % 2 == 1 => v[n / 2],
-            n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
-        }
+        median(&self.frame_ms).unwrap_or(f64::NAN)
     }
+}
+
+/// The median of `values` (mean of the middle two for an even count), `None` when empty:
+/// the one statistic every timing of the runtime and the report quotes.
+pub fn median(values: &[f64]) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len();
+    Some(if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+    })
 }
 
 /// What a headless render returns.

@@ -8,7 +8,6 @@
 //! other and named as such, so its "GPU" times are read as what they are.
 
 use super::ReportConfig;
-use super::timing::median;
 use crate::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, GpuTable};
 use crate::model::{Integration, Patch};
 use crate::render::image::{LinearImage, image_error};
@@ -204,7 +203,7 @@ fn measure_on(
             let point = GpuPoint {
                 shader: if samples.is_some() { "paper" } else { "lookup" }.into(),
                 samples: *samples,
-                ms_per_frame: median(&output.timing.frame_ms),
+                ms_per_frame: output.timing.median_ms(),
                 samples_ms: output.timing.frame_ms.clone(),
                 image_relative_l2: error.relative_l2,
                 image_psnr_db: error.psnr_db,

@@ -32,19 +32,10 @@ pub struct BakeTiming {
     pub threads: usize,
 }
 
-/// Median of `values` (mean of the two middle values for an even count); NaN if empty.
+/// Median of `values` (mean of the two middle values for an even count); NaN if empty, a
+/// figure the report shows as missing.
 pub fn median(values: &[f64]) -> f64 {
-    if values.is_empty() {
-        return f64::NAN;
-    }
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let mid = sorted.len() / 2;
-    if sorted.len() % 2 == 1 {
-        sorted[mid]
-    } else {
-        0.5 * (sorted[mid - 1] + sorted[mid])
-    }
+    crate::render::median(values).unwrap_or(f64::NAN)
 }
 
 /// An evaluation to time: F(wi, wo) by some estimator.

@@ -2,6 +2,7 @@
 //! unit-tested: keys to actions, mouse drags and wheel steps to the orbit camera, arrow keys
 //! to the directional light, frame-interval statistics and the window title.
 
+use crate::render::median;
 use crate::scene::{Light, OrbitCamera};
 use winit::keyboard::{Key, NamedKey};
 
@@ -315,21 +316,6 @@ impl FrameStats {
         self.recent_intervals.clear();
         self.recent_gpu.clear();
     }
-}
-
-/// The median of `values` (mean of the middle two for an even count), `None` when empty.
-pub fn median(values: &[f64]) -> Option<f64> {
-    if values.is_empty() {
-        return None;
-    }
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let n = sorted.len();
-    Some(if n % 2 == 1 {
-        sorted[n / 2]
-    } else {
-        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
-    })
 }
 
 /// The window title: fabric, shading mode, frame interval (and rate) and GPU time.
