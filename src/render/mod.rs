@@ -255,9 +255,9 @@ impl FrameUniform {
     }
 }
 
-/// The targets of one frame. `linear` must be given exactly when the renderer was made with
-/// a linear output (of [`Renderer::linear_format`]); `depth` is [`DEPTH_FORMAT`]; all of
-/// `size`.
+/// The targets of one frame. `linear` may be given only when the renderer was made with a
+/// linear output (of [`Renderer::linear_format`]); without it the frame is the display image
+/// alone, as a real-time frame. `depth` is [`DEPTH_FORMAT`]; all of `size`.
 pub struct FrameTargets<'a> {
     pub color: &'a wgpu::TextureView,
     pub linear: Option<&'a wgpu::TextureView>,
@@ -274,6 +274,13 @@ pub struct GBufferTargets<'a> {
     pub normal: &'a wgpu::TextureView,
     pub depth: &'a wgpu::TextureView,
     pub size: (u32, u32),
+}
+
+/// The pipelines of one BRDF shader: the display image alone, and display plus linear
+/// radiance (when the renderer has a linear output).
+struct Pipelines {
+    display: wgpu::RenderPipeline,
+    display_linear: Option<wgpu::RenderPipeline>,
 }
 
 /// The cloth render pipeline: a mesh, a [`GpuBrdf`], the uniforms of a frame.
@@ -295,7 +302,7 @@ pub struct Renderer {
     brdf_group: wgpu::BindGroup,
     brdf_label: String,
     brdf_key: String,
-    pipelines: HashMap<String, wgpu::RenderPipeline>,
+    pipelines: HashMap<String, Pipelines>,
     gbuffer_pipeline: Option<wgpu::RenderPipeline>,
 }
 
@@ -380,25 +387,30 @@ impl Renderer {
     pub fn set_brdf(&mut self, context: &GpuContext, brdf: &dyn GpuBrdf) -> Result<(), GpuError> {
         let source = brdf.wgsl() + "\n" + RENDER_WGSL;
         if !self.pipelines.contains_key(&source) {
-            let fragment = if self.linear_format.is_some() {
-                "fs_display_linear"
-            } else {
-                "fs_display"
-            };
-            let mut targets = vec![Some(wgpu::ColorTargetState::from(self.color_format))];
-            if let Some(format) = self.linear_format {
-                targets.push(Some(format.into()));
-            }
-            let pipeline = context.checked(|| {
-                self.pipeline(
-                    context,
-                    &source,
-                    Some(brdf.bind_group_layout()),
-                    fragment,
-                    &targets,
-                )
+            let display = wgpu::ColorTargetState::from(self.color_format);
+            let pipelines = context.checked(|| {
+                let layout = Some(brdf.bind_group_layout());
+                let module = shader_module(context, &source);
+                Pipelines {
+                    display: self.pipeline(
+                        context,
+                        &module,
+                        layout,
+                        "fs_display",
+                        &[Some(display.clone())],
+                    ),
+                    display_linear: self.linear_format.map(|format| {
+                        self.pipeline(
+                            context,
+                            &module,
+                            layout,
+                            "fs_display_linear",
+                            &[Some(display.clone()), Some(format.into())],
+                        )
+                    }),
+                }
             })?;
-            self.pipelines.insert(source.clone(), pipeline);
+            self.pipelines.insert(source.clone(), pipelines);
         }
         self.brdf_key = source;
         self.brdf_group = brdf.bind_group().clone();
@@ -436,10 +448,12 @@ impl Renderer {
         self.linear_format
     }
 
+    /// The pipeline drawing the mesh with fragment entry point `fragment` of `module` (the
+    /// render WGSL appended to a BRDF's) into `targets`.
     fn pipeline(
         &self,
         context: &GpuContext,
-        source: &str,
+        module: &wgpu::ShaderModule,
         brdf_layout: Option<&wgpu::BindGroupLayout>,
         fragment: &str,
         targets: &[Option<wgpu::ColorTargetState>],
@@ -450,10 +464,6 @@ impl Renderer {
             bind_group_layouts: &[brdf_layout, Some(&self.frame_layout)],
             immediate_size: 0,
         });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("render.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        });
         let attributes = wgpu::vertex_attr_array![
             0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x2
         ];
@@ -461,7 +471,7 @@ impl Renderer {
             label: Some(fragment),
             layout: Some(&layout),
             vertex: wgpu::VertexState {
-                module: &module,
+                module,
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
                 buffers: &[Some(wgpu::VertexBufferLayout {
@@ -485,7 +495,7 @@ impl Renderer {
             }),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
-                module: &module,
+                module,
                 entry_point: Some(fragment),
                 compilation_options: Default::default(),
                 targets,
@@ -554,7 +564,15 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipelines[&self.brdf_key]);
+        let pipelines = &self.pipelines[&self.brdf_key];
+        let pipeline = match targets.linear {
+            Some(_) => pipelines
+                .display_linear
+                .as_ref()
+                .expect("a linear target needs a renderer made with a linear output"),
+            None => &pipelines.display,
+        };
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &self.brdf_group, &[]);
         pass.set_bind_group(1, &self.frame_group, &[]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
@@ -577,8 +595,10 @@ impl Renderer {
             let source = STUB_BRDF_WGSL.to_string() + RENDER_WGSL;
             let formats: [Option<wgpu::ColorTargetState>; 3] =
                 std::array::from_fn(|_| Some(GBUFFER_FORMAT.into()));
-            let pipeline = context
-                .checked(|| self.pipeline(context, &source, None, "fs_gbuffer", &formats))?;
+            let pipeline = context.checked(|| {
+                let module = shader_module(context, &source);
+                self.pipeline(context, &module, None, "fs_gbuffer", &formats)
+            })?;
             self.gbuffer_pipeline = Some(pipeline);
         }
         self.write_uniforms(&context.queue, settings, targets.size);
@@ -612,6 +632,15 @@ impl Renderer {
         pass.draw_indexed(0..self.index_count, 0, 0..1);
         Ok(())
     }
+}
+
+fn shader_module(context: &GpuContext, source: &str) -> wgpu::ShaderModule {
+    context
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("render.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        })
 }
 
 fn depth_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
@@ -763,8 +792,12 @@ impl Headless {
         })
     }
 
-    /// Renders `frames` timed frames (at least 1) after one untimed warm-up frame and reads
-    /// the last back. Frame times come from GPU timestamps when the device has them.
+    /// Renders `frames` timed frames (at least 1) after one untimed warm-up frame, then one
+    /// untimed frame that also writes the linear radiance, and reads that back. The timed
+    /// frames draw the display image alone, as [`crate::viewer`] does: writing a float
+    /// target as well is the reference comparison's cost, not the real-time frame's (on
+    /// lavapipe it adds about 8 ms to a 1024² frame). Frame times come from GPU timestamps
+    /// when the device has them.
     pub fn render(
         &self,
         context: &GpuContext,
@@ -775,34 +808,38 @@ impl Headless {
         let color_view = self.color.create_view(&Default::default());
         let linear_view = self.linear.create_view(&Default::default());
         let depth_view = self.depth.create_view(&Default::default());
-        let targets = FrameTargets {
-            color: &color_view,
-            linear: Some(&linear_view),
-            depth: &depth_view,
-            size: self.size,
-        };
         let timer = context.timestamps().then(|| Timer::new(context));
         let mut frame_ms = Vec::new();
-        for frame in 0..=frames.max(1) {
+        let last = frames.max(1) + 1;
+        for frame in 0..=last {
+            // Frame 0 warms up, frames 1 to last − 1 are timed, the last writes the linear
+            // radiance as well.
+            let timed = frame > 0 && frame < last;
+            let targets = FrameTargets {
+                color: &color_view,
+                linear: (frame == last).then_some(&linear_view),
+                depth: &depth_view,
+                size: self.size,
+            };
             let mut encoder = device.create_command_encoder(&Default::default());
-            let writes = timer.as_ref().map(Timer::writes);
+            let timer = timer.as_ref().filter(|_| timed);
+            let writes = timer.map(Timer::writes);
             context.checked(|| {
                 self.renderer
                     .encode(&context.queue, &mut encoder, &targets, settings, writes)
             })?;
-            if let Some(timer) = &timer {
+            if let Some(timer) = timer {
                 timer.resolve(&mut encoder);
             }
             let start = Instant::now();
             context.queue.submit([encoder.finish()]);
             wait(context)?;
             let wall = start.elapsed().as_secs_f64() * 1e3;
-            let ms = match &timer {
-                Some(timer) => timer.read(context)?,
-                None => wall,
-            };
-            if frame > 0 {
-                frame_ms.push(ms);
+            if timed {
+                frame_ms.push(match timer {
+                    Some(timer) => timer.read(context)?,
+                    None => wall,
+                });
             }
         }
         let linear = match self.linear.format() {
