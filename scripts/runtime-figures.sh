@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # GPU cost of the lookup shader against the direct (paper-mode) shader at 1024×1024, every
 # built-in fabric, on whatever adapter wgpu finds: the median ms per frame that
-# `clothbake render` prints for --shader lookup, and direct at N = 8 and 32, in one run.
+# `clothbake render` prints for --shader constant (F = 1/π: the frame without BRDF work, the
+# floor under every shader), lookup, and direct at N = 8 and 32, in one run, the four of a
+# fabric one after another. Ratios: whole frames, and BRDF work alone (frame − floor).
 # Needs the default tables (clothbake bake). Prints a Markdown table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -19,12 +21,14 @@ median_ms() { # the ms figure of the render command's "median X ms per frame" li
 "$bin" render --width 64 --height 64 --frames 1 --out "$out/probe.png" \
     --fabric "$(echo "$fabrics" | head -1)" | grep '^adapter'
 echo
-echo "| fabric | lookup ms | direct N = 8 ms | direct N = 32 ms | N = 8 / lookup | N = 32 / lookup |"
-echo "|---|---:|---:|---:|---:|---:|"
+echo "| fabric | floor ms | lookup ms | direct N = 8 ms | direct N = 32 ms | N = 8 / lookup | N = 32 / lookup | BRDF work: N = 32 / lookup |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 for fabric in $fabrics; do
+    floor=$(median_ms --fabric "$fabric" --shader constant)
     lookup=$(median_ms --fabric "$fabric")
     n8=$(median_ms --fabric "$fabric" --shader direct --samples 8)
     n32=$(median_ms --fabric "$fabric" --shader direct --samples 32)
-    awk -v f="$fabric" -v l="$lookup" -v a="$n8" -v b="$n32" \
-        'BEGIN { printf "| %s | %.0f | %.0f | %.0f | %.2f× | %.2f× |\n", f, l, a, b, a / l, b / l }'
+    awk -v f="$fabric" -v z="$floor" -v l="$lookup" -v a="$n8" -v b="$n32" 'BEGIN {
+        printf "| %s | %.0f | %.0f | %.0f | %.0f | %.2f× | %.2f× | %.2f× |\n",
+            f, z, l, a, b, a / l, b / l, (b - z) / (l - z) }'
 done

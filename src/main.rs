@@ -121,9 +121,9 @@ enum Command {
         /// Timed frames (after one warm-up frame); the median is printed.
         #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10_000))]
         frames: u32,
-        /// How the shader evaluates F: table lookup, or the model itself (paper mode).
-        #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
-        shader: ShaderArg,
+        /// How the shader evaluates F.
+        #[arg(long, value_enum, default_value_t = RenderShaderArg::Lookup)]
+        shader: RenderShaderArg,
         /// Tangent samples per thread of --shader direct (default 32).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
         samples: Option<u32>,
@@ -181,6 +181,16 @@ impl SceneArgs {
 enum ShaderArg {
     Lookup,
     Direct,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum RenderShaderArg {
+    /// Table lookup from the baked tables.
+    Lookup,
+    /// The model itself in the shader (paper mode, --samples per thread).
+    Direct,
+    /// F = 1/π: the frame's cost without BRDF work, the floor under any shader's time.
+    Constant,
 }
 
 fn parse_layout(name: &str) -> Result<Layout, String> {
@@ -344,13 +354,12 @@ fn run(cli: Cli) -> Result<(), String> {
             reference,
         } => {
             let shader = match (shader, samples) {
-                (ShaderArg::Lookup, None) => render::job::Shader::Lookup,
-                (ShaderArg::Lookup, Some(_)) => {
-                    return Err("--samples applies to --shader direct only".into());
-                }
-                (ShaderArg::Direct, n) => render::job::Shader::Direct {
+                (RenderShaderArg::Direct, n) => render::job::Shader::Direct {
                     samples: n.unwrap_or(clothbake::gpu::direct::DEFAULT_SAMPLES),
                 },
+                (_, Some(_)) => return Err("--samples applies to --shader direct only".into()),
+                (RenderShaderArg::Lookup, None) => render::job::Shader::Lookup,
+                (RenderShaderArg::Constant, None) => render::job::Shader::Constant,
             };
             let job = render::job::RenderJob {
                 scene: scene.load()?,

@@ -17,14 +17,14 @@ use common::*;
 
 use clothbake::bake::bake;
 use clothbake::fabric_file::FabricSet;
-use clothbake::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuTable};
+use clothbake::gpu::{GpuBrdf, GpuConstant, GpuContext, GpuDirect, GpuTable};
 use clothbake::model::{Fabric, Integration, Patch};
 use clothbake::render::image::{LinearImage, image_error, read_linear_exr, write_linear_exr};
 use clothbake::render::mesh::Mesh;
 use clothbake::render::{FrameSettings, Headless, LightSource, reference};
 use clothbake::scene::Scene;
 use clothbake::table::{Layout, Table};
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
@@ -168,6 +168,36 @@ fn direct_shader_render_equals_cpu_paper_mode_shading_of_the_same_pixels() {
             error.relative_l2
         );
     }
+}
+
+#[test]
+fn constant_shader_render_equals_cpu_shading_with_f_one_over_pi() {
+    // The cost-floor shader does the render pass's whole per-light work (frame, directions,
+    // irradiance, horizon test) with F = 1/π: its image must be the CPU's shading of the
+    // same G-buffer with that F, to f32 arithmetic.
+    let context = gpu_context();
+    let settings = settings();
+    let brdf = GpuConstant::new(&context);
+    let mut headless = Headless::new(&context, &mesh(), &brdf, SIDE, SIDE).unwrap();
+    let gpu = headless.render(&context, &settings, 1).unwrap().linear;
+    let gbuffer = headless.gbuffer(&context, &settings).unwrap();
+    let cpu = reference::shade_with(&gbuffer, &settings, |_, _| {
+        DVec3::splat(std::f64::consts::FRAC_1_PI)
+    });
+    let error = image_error(&gpu, &cpu, settings.exposure).unwrap();
+    println!(
+        "constant F = 1/π on the GPU against the CPU: relative L2 {:.2e}, {} pixels",
+        error.relative_l2, error.covered
+    );
+    assert!(error.covered > 1000);
+    assert_eq!(error.coverage_mismatch, 0);
+    // The same bound as the direct shader's test above (f32 against f64 for the same
+    // directions and irradiances).
+    assert!(
+        error.relative_l2 < 1e-4,
+        "constant render differs from the CPU by {:.2e} (relative L2)",
+        error.relative_l2
+    );
 }
 
 /// Per fabric: (lookup render, CPU shading of the same G-buffer by `Table::lookup`, CPU

@@ -9,13 +9,16 @@
 //!   WGSL, [`layout::lookup_wgsl`]).
 //! - [`GpuDirect`]: the model itself evaluated in the shader (`shaders/direct.wgsl`), paper
 //!   mode with N tangent samples per thread (mirrors `Integration::Paper(N)`).
+//! - [`GpuConstant`]: F = 1/π, the cost of a frame without BRDF work, for measurements.
 //! - [`evaluate_pairs`]: F(wi, wo) for a list of direction pairs by any [`GpuBrdf`]
 //!   (`shaders/eval_pairs.wgsl`), for tests and measurements.
 
+pub mod constant;
 pub mod direct;
 pub mod layout;
 pub mod table;
 
+pub use constant::GpuConstant;
 pub use direct::GpuDirect;
 pub use table::GpuTable;
 

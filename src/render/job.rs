@@ -6,7 +6,7 @@ use super::image::{HEATMAP_LOG10_RANGE, ImageError, error_heatmap, image_error, 
 use super::mesh::Mesh;
 use super::{FrameSettings, Headless, RenderOutput, reference};
 use crate::fabric_file::FabricSet;
-use crate::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuTable};
+use crate::gpu::{GpuBrdf, GpuConstant, GpuContext, GpuDirect, GpuTable};
 use crate::model::{Fabric, Integration, Patch};
 use crate::scene::Scene;
 use crate::table_file::{TableFile, read_table};
@@ -20,6 +20,8 @@ pub enum Shader {
     Lookup,
     /// The model in the shader, paper mode with this many tangent samples per thread.
     Direct { samples: u32 },
+    /// F = 1/π ([`crate::gpu::GpuConstant`]): the frame's cost without BRDF work.
+    Constant,
 }
 
 /// One `render` run.
@@ -127,7 +129,7 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             .iter()
             .map(|f| load_table(&job.tables, f).map(Some))
             .collect::<Result<Vec<_>, _>>()?,
-        Shader::Direct { .. } => vec![None; fabrics.len()],
+        Shader::Direct { .. } | Shader::Constant => vec![None; fabrics.len()],
     };
     let mut settings = FrameSettings::from_scene(&job.scene);
     let mesh = match &job.mesh {
@@ -162,6 +164,7 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             (Shader::Direct { samples }, _) => {
                 Box::new(GpuDirect::new(&context, fabric, samples).map_err(|e| e.to_string())?)
             }
+            (Shader::Constant, _) => Box::new(GpuConstant::new(&context)),
             (Shader::Lookup, None) => unreachable!("tables are loaded for the lookup"),
         };
         let renderer = match &mut headless {

@@ -1,0 +1,61 @@
+//! A constant F for cost measurements: the frame with no BRDF work in it.
+
+use super::{GpuBrdf, GpuContext};
+
+/// F(wi, wo) = 1/π (RGB, every pair above the horizon): not a cloth model, but the cost
+/// floor of a frame. A render with it costs what every render costs besides evaluating F
+/// (rasterisation, the shading frame, tone mapping), so a BRDF's own cost per frame is its
+/// frame time minus this one's, and no BRDF can make a frame cheaper. Used by
+/// `clothbake render --shader constant` and `scripts/runtime-figures.sh`.
+pub struct GpuConstant {
+    bind_group_layout: wgpu::BindGroupLayout,
+    bind_group: wgpu::BindGroup,
+}
+
+const CONSTANT_WGSL: &str = "\
+// Constant F = 1/π above the horizon (clothbake::gpu::GpuConstant): the frame cost floor.
+fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    if wi.z <= 0.0 || wo.z <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    return vec3<f32>(0.31830987);
+}
+";
+
+impl GpuConstant {
+    /// The constant BRDF, with an empty group 0.
+    pub fn new(context: &GpuContext) -> Self {
+        let device = &context.device;
+        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("constant"),
+            entries: &[],
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("constant"),
+            layout: &bind_group_layout,
+            entries: &[],
+        });
+        Self {
+            bind_group_layout,
+            bind_group,
+        }
+    }
+}
+
+impl GpuBrdf for GpuConstant {
+    fn wgsl(&self) -> String {
+        CONSTANT_WGSL.to_string()
+    }
+
+    fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.bind_group_layout
+    }
+
+    fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.bind_group
+    }
+
+    fn label(&self) -> String {
+        "constant F = 1/π (frame cost floor)".into()
+    }
+}
