@@ -2,13 +2,16 @@
 # GPU cost of the lookup shader against the direct (paper-mode) shader at 1024×1024, every
 # built-in fabric, on whatever adapter wgpu finds: the median ms per frame that
 # `clothbake render` prints for --shader constant (F = 1/π: the frame without BRDF work, the
-# floor under every shader), lookup, and direct at N = 8 and 32, in one run, the four of a
-# fabric one after another. Ratios: whole frames, and BRDF work alone (frame − floor).
+# floor under every shader), lookup, and direct at N = 8 and 32, in one run. A shared
+# machine's speed drifts over minutes, so the four renders of a fabric alternate, ROUNDS
+# times (default 3), and each figure is the median of its rounds' medians of FRAMES frames
+# (default 5). Ratios: whole frames, and BRDF work alone (frame − floor).
 # Needs the default tables (clothbake bake). Prints a Markdown table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=target/release/clothbake
 frames=${FRAMES:-5}
+rounds=${ROUNDS:-3}
 fabrics=$("$bin" fabrics | awk '/^[a-z]/ {print $1}')
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
@@ -23,12 +26,21 @@ median_ms() { # the ms figure of the render command's "median X ms per frame" li
 echo
 echo "| fabric | floor ms | lookup ms | direct N = 8 ms | direct N = 32 ms | N = 8 / lookup | N = 32 / lookup | BRDF work: N = 32 / lookup |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|"
+median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+
 for fabric in $fabrics; do
-    floor=$(median_ms --fabric "$fabric" --shader constant)
-    lookup=$(median_ms --fabric "$fabric")
-    n8=$(median_ms --fabric "$fabric" --shader direct --samples 8)
-    n32=$(median_ms --fabric "$fabric" --shader direct --samples 32)
-    awk -v f="$fabric" -v z="$floor" -v l="$lookup" -v a="$n8" -v b="$n32" 'BEGIN {
+    declare -A ms=()
+    for ((round = 0; round < rounds; round++)); do
+        ms[floor]+="$(median_ms --fabric "$fabric" --shader constant) "
+        ms[lookup]+="$(median_ms --fabric "$fabric") "
+        ms[n8]+="$(median_ms --fabric "$fabric" --shader direct --samples 8) "
+        ms[n32]+="$(median_ms --fabric "$fabric" --shader direct --samples 32) "
+    done
+    for key in floor lookup n8 n32; do
+        ms[$key]=$(tr ' ' '\n' <<<"${ms[$key]}" | grep . | median)
+    done
+    awk -v f="$fabric" -v z="${ms[floor]}" -v l="${ms[lookup]}" -v a="${ms[n8]}" -v b="${ms[n32]}" 'BEGIN {
         printf "| %s | %.0f | %.0f | %.0f | %.0f | %.2f× | %.2f× | %.2f× |\n",
             f, z, l, a, b, a / l, b / l, (b - z) / (l - z) }'
+    unset ms
 done
