@@ -285,7 +285,7 @@ struct Pipelines {
 
 /// The cloth render pipeline: a mesh, a [`GpuBrdf`], the uniforms of a frame.
 ///
-/// One pipeline is built per distinct BRDF shader and kept, so switching between BRDFs
+/// The pipelines of each distinct BRDF shader are built once and kept, so switching between BRDFs
 /// already seen (fabrics of one table layout, lookup/direct) costs no shader compilation.
 pub struct Renderer {
     color_format: wgpu::TextureFormat,
@@ -795,9 +795,8 @@ impl Headless {
     /// Renders `frames` timed frames (at least 1) after one untimed warm-up frame, then one
     /// untimed frame that also writes the linear radiance, and reads that back. The timed
     /// frames draw the display image alone, as [`crate::viewer`] does: writing a float
-    /// target as well is the reference comparison's cost, not the real-time frame's (on
-    /// lavapipe it adds about 8 ms to a 1024² frame). Frame times come from GPU timestamps
-    /// when the device has them.
+    /// target as well is the reference comparison's cost, not the real-time frame's. Frame
+    /// times come from GPU timestamps when the device has them.
     pub fn render(
         &self,
         context: &GpuContext,
