@@ -266,8 +266,7 @@ impl Scene {
             )));
         }
         let text = std::fs::read_to_string(path).map_err(|e| fail(e.to_string()))?;
-        let mut scene: Scene = toml::from_str(&text).map_err(|e| fail(e.to_string()))?;
-        scene.validate().map_err(fail)?;
+        let mut scene = Self::parse(&text).map_err(fail)?;
         let base = path.parent().unwrap_or(Path::new(""));
         if let Some(file) = &scene.fabric_file {
             scene.fabric_file = Some(base.join(file));

@@ -278,6 +278,7 @@ pub struct GBufferTargets<'a> {
 
 /// The pipelines of one BRDF shader: the display image alone, and display plus linear
 /// radiance (when the renderer has a linear output).
+#[derive(Clone)]
 struct Pipelines {
     display: wgpu::RenderPipeline,
     display_linear: Option<wgpu::RenderPipeline>,
@@ -301,7 +302,10 @@ pub struct Renderer {
     index_count: u32,
     brdf_group: wgpu::BindGroup,
     brdf_label: String,
-    brdf_key: String,
+    /// The current BRDF's pipelines (set by `new`), kept out of the map so that a frame
+    /// does not hash the shader source to find them.
+    current: Option<Pipelines>,
+    /// Pipelines by shader source.
     pipelines: HashMap<String, Pipelines>,
     gbuffer_pipeline: Option<wgpu::RenderPipeline>,
 }
@@ -374,7 +378,7 @@ impl Renderer {
             index_count: mesh.indices.len() as u32,
             brdf_group: brdf.bind_group().clone(),
             brdf_label: String::new(),
-            brdf_key: String::new(),
+            current: None,
             pipelines: HashMap::new(),
             gbuffer_pipeline: None,
         };
@@ -386,7 +390,9 @@ impl Renderer {
     /// was built before).
     pub fn set_brdf(&mut self, context: &GpuContext, brdf: &dyn GpuBrdf) -> Result<(), GpuError> {
         let source = brdf.wgsl() + "\n" + RENDER_WGSL;
-        if !self.pipelines.contains_key(&source) {
+        if let Some(pipelines) = self.pipelines.get(&source) {
+            self.current = Some(pipelines.clone());
+        } else {
             let display = wgpu::ColorTargetState::from(self.color_format);
             let pipelines = context.checked(|| {
                 let layout = Some(brdf.bind_group_layout());
@@ -410,37 +416,17 @@ impl Renderer {
                     }),
                 }
             })?;
-            self.pipelines.insert(source.clone(), pipelines);
+            self.current = Some(pipelines.clone());
+            self.pipelines.insert(source, pipelines);
         }
-        self.brdf_key = source;
         self.brdf_group = brdf.bind_group().clone();
         self.brdf_label = brdf.label();
-        Ok(())
-    }
-
-    /// Draws `mesh` from now on.
-    pub fn set_mesh(&mut self, context: &GpuContext, mesh: &Mesh) -> Result<(), GpuError> {
-        if mesh.vertices.is_empty() || mesh.indices.len() < 3 {
-            return Err(GpuError::Invalid {
-                name: "mesh".into(),
-                message: "has no triangles".into(),
-            });
-        }
-        let (vertices, indices) = context.checked(|| mesh_buffers(&context.device, mesh))?;
-        self.vertices = vertices;
-        self.indices = indices;
-        self.index_count = mesh.indices.len() as u32;
         Ok(())
     }
 
     /// The label of the current BRDF ([`GpuBrdf::label`]).
     pub fn brdf_label(&self) -> &str {
         &self.brdf_label
-    }
-
-    /// The colour format the renderer draws into.
-    pub fn color_format(&self) -> wgpu::TextureFormat {
-        self.color_format
     }
 
     /// The format its linear-radiance target must have (`None`: made without one).
@@ -564,7 +550,7 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let pipelines = &self.pipelines[&self.brdf_key];
+        let pipelines = self.current.as_ref().expect("Renderer::new sets a BRDF");
         let pipeline = match targets.linear {
             Some(_) => pipelines
                 .display_linear
@@ -807,7 +793,9 @@ impl Headless {
         let color_view = self.color.create_view(&Default::default());
         let linear_view = self.linear.create_view(&Default::default());
         let depth_view = self.depth.create_view(&Default::default());
-        let timer = context.timestamps().then(|| Timer::new(context));
+        let timer = context
+            .timestamps()
+            .then(|| PassTimestamps::new(context, "frame timestamps"));
         let mut frame_ms = Vec::new();
         let last = frames.max(1) + 1;
         for frame in 0..=last {
@@ -822,7 +810,7 @@ impl Headless {
             };
             let mut encoder = device.create_command_encoder(&Default::default());
             let timer = timer.as_ref().filter(|_| timed);
-            let writes = timer.map(Timer::writes);
+            let writes = timer.map(PassTimestamps::writes);
             context.checked(|| {
                 self.renderer
                     .encode(&context.queue, &mut encoder, &targets, settings, writes)
@@ -924,19 +912,6 @@ impl Headless {
             normal,
         })
     }
-}
-
-/// Renders one view headless: `frames` timed frames of `mesh` shaded by `brdf`, `width` ×
-/// `height`, returning linear radiance, the display image and the frame times.
-pub fn render_scene(
-    context: &GpuContext,
-    mesh: &Mesh,
-    brdf: &dyn GpuBrdf,
-    settings: &FrameSettings,
-    (width, height): (u32, u32),
-    frames: u32,
-) -> Result<RenderOutput, GpuError> {
-    Headless::new(context, mesh, brdf, width, height)?.render(context, settings, frames)
 }
 
 fn target(
@@ -1043,40 +1018,43 @@ fn read_texture(
         .collect())
 }
 
-/// Two timestamps around a render pass, resolved and read back per frame.
-struct Timer {
+/// Timestamp queries at the start and end of one render pass, and the buffers that bring
+/// them back: used by [`Headless::render`] (read at once) and the viewer (read when mapped).
+pub(crate) struct PassTimestamps {
     queries: wgpu::QuerySet,
     resolved: wgpu::Buffer,
-    readback: wgpu::Buffer,
+    /// `MAP_READ` copy of the two ticks, filled by [`PassTimestamps::resolve`].
+    pub readback: wgpu::Buffer,
+    /// Nanoseconds per tick.
     period_ns: f64,
 }
 
-impl Timer {
-    fn new(context: &GpuContext) -> Self {
+impl PassTimestamps {
+    pub fn new(context: &GpuContext, label: &str) -> Self {
         let device = &context.device;
+        // Two u64 ticks: 16 bytes, a multiple of the 8-byte resolve alignment.
+        let buffer = |usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 16,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
         Self {
             queries: device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("frame timestamps"),
+                label: Some(label),
                 ty: wgpu::QueryType::Timestamp,
                 count: 2,
             }),
-            resolved: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps"),
-                size: 16,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            }),
-            readback: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("timestamps read-back"),
-                size: 16,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            resolved: buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            readback: buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST),
             period_ns: context.timestamp_period() as f64,
         }
     }
 
-    fn writes(&self) -> wgpu::RenderPassTimestampWrites<'_> {
+    /// The pass's timestamp writes.
+    pub fn writes(&self) -> wgpu::RenderPassTimestampWrites<'_> {
         wgpu::RenderPassTimestampWrites {
             query_set: &self.queries,
             beginning_of_pass_write_index: Some(0),
@@ -1084,15 +1062,21 @@ impl Timer {
         }
     }
 
-    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+    /// Records the resolve of the queries into `readback` (after the pass).
+    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.resolve_query_set(&self.queries, 0..2, &self.resolved, 0);
         encoder.copy_buffer_to_buffer(&self.resolved, 0, &self.readback, 0, 16);
     }
 
-    /// The pass's duration in milliseconds.
+    /// The pass's duration in milliseconds from the mapped contents of `readback`.
+    pub fn elapsed_ms(&self, readback: &[u8]) -> f64 {
+        let tick = |k: usize| u64::from_le_bytes(std::array::from_fn(|i| readback[8 * k + i]));
+        // A pass can straddle a counter wrap; end < start is read modulo 2^64.
+        tick(1).wrapping_sub(tick(0)) as f64 * self.period_ns * 1e-6
+    }
+
+    /// Maps `readback`, waiting for the device, and returns the duration in milliseconds.
     fn read(&self, context: &GpuContext) -> Result<f64, GpuError> {
-        let bytes = map_read(context, &self.readback)?;
-        let tick = |k: usize| u64::from_le_bytes(std::array::from_fn(|i| bytes[8 * k + i]));
-        Ok(tick(1).wrapping_sub(tick(0)) as f64 * self.period_ns * 1e-6)
+        Ok(self.elapsed_ms(&map_read(context, &self.readback)?))
     }
 }

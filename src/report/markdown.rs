@@ -277,21 +277,25 @@ fn method(report: &Report, md: &mut String) {
         md,
         "- **Errors**: relative RMS over RGB, `sqrt(Σ|F_est − F|² / Σ|F|²)`, against the direct \
          evaluation (MODEL.md's ground truth) on {} uniform pairs (both directions uniform \
-         over the upper hemisphere, seed 0x5eed0001), {} highlight pairs (on the specular cones \
-         of tangent samples, seed 0x5eed0002), and the uniform pairs with both directions at \
+         over the upper hemisphere, seed {:#x}), {} highlight pairs (on the specular cones \
+         of tangent samples, seed {:#x}), and the uniform pairs with both directions at \
          least 15° above the horizon — the sets of `clothbake check` (src/accuracy.rs, \
          src/direction_sets.rs).",
-        c.error_pairs, c.error_pairs
+        c.error_pairs,
+        crate::accuracy::UNIFORM_SEED,
+        c.error_pairs,
+        crate::accuracy::HIGHLIGHT_SEED
     );
     let _ = writeln!(
         md,
         "- **CPU cost**: nanoseconds per evaluation on one thread over a fixed set of {} \
-         uniform pairs (seed 0x5eed0010), the median of {} samples, each at least {} ms long \
+         uniform pairs (seed {:#x}), the median of {} samples, each at least {} ms long \
          (whole passes over the set) after one warm-up pass. Table lookups are \
          `Table::lookup` in f64 with the albedos applied; paper mode and the direct evaluation \
          are `Patch::eval`. All timings of a fabric come from the same run, so their ratios \
          compare like with like.",
         c.timing_pairs,
+        super::TIMING_SEED,
         c.timing_samples,
         (c.min_sample_seconds * 1000.0).round()
     );
