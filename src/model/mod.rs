@@ -8,7 +8,9 @@ pub mod curve;
 pub mod fabric;
 pub mod lobes;
 pub mod patch;
+pub mod resonant;
 
 pub use curve::Integration;
 pub use fabric::{Fabric, FabricError, GaussianWidth, ModelOptions, TangentSampling, Thread};
 pub use patch::{Patch, PatchTerms, ThreadMeans};
+pub use resonant::ResonantNodes;

@@ -4,6 +4,7 @@
 use super::curve::{CurvePiece, Integration, curve_pieces};
 use super::fabric::{Fabric, Thread};
 use super::lobes::{UnitAreaGaussian, UnitHeightGaussian, fresnel_dielectric};
+use super::resonant::{ResonantCost, ResonantRule};
 use glam::DVec3;
 
 /// Below this length a projection of a unit direction counts as degenerate (the direction is
@@ -49,6 +50,8 @@ pub struct ThreadModel {
     surface_lobe: UnitAreaGaussian,
     volume_lobe: UnitAreaGaussian,
     reweight: UnitHeightGaussian,
+    /// Set for `Integration::Resonant`: the rule that places nodes per pair.
+    resonant: Option<ResonantRule>,
 }
 
 /// `(1 − u)·a·b + u·min(a, b)`: the reweighted product of MODEL.md's M and P.
@@ -84,7 +87,20 @@ impl ThreadModel {
             surface_lobe: UnitAreaGaussian::new(sigma_s.to_radians()),
             volume_lobe: UnitAreaGaussian::new(sigma_v.to_radians()),
             reweight: UnitHeightGaussian::new(options.sigma_u_deg.to_radians()),
+            resonant: match integration {
+                Integration::Resonant(nodes) => Some(ResonantRule::new(
+                    nodes,
+                    sigma_s.to_radians(),
+                    sigma_v.to_radians(),
+                )),
+                _ => None,
+            },
         }
+    }
+
+    /// The quadrature pieces, with (cos, sin) of their start.
+    pub(crate) fn pieces(&self) -> &[(CurvePiece, f64, f64)] {
+        &self.pieces
     }
 
     /// Most tangent samples one evaluation visits.
@@ -118,32 +134,12 @@ impl ThreadModel {
     /// clipped ends like a product of cosines, so no midpoint straddles a kink, and a sliver
     /// where both directions barely face the sample is resolved rather than hit or missed.
     pub fn means(&self, wi: DVec3, wo: DVec3) -> ThreadMeans {
-        let (ti0, zi, bi) = (wi.dot(self.t0), wi.z, wi.dot(self.b));
-        let (to0, zo, bo) = (wo.dot(self.t0), wo.z, wo.dot(self.b));
-        let par_i = (ti0 * ti0 + zi * zi).sqrt();
-        let par_o = (to0 * to0 + zo * zo).sqrt();
-        if par_i < DEGENERATE_PROJECTION || par_o < DEGENERATE_PROJECTION {
+        let Some((pair, facing)) = self.pair_frame(wi, wo) else {
             return ThreadMeans::default();
-        }
-        let cos_psi_d = ((ti0 * to0 + zi * zo) / (par_i * par_o)).clamp(-1.0, 1.0);
-        let pair = PairInThreadFrame {
-            ti0,
-            zi,
-            bi,
-            to0,
-            zo,
-            bo,
-            par_i,
-            par_o,
-            u_psi: self.reweight.eval(cos_psi_d.acos()),
         };
-        let half_pi = std::f64::consts::FRAC_PI_2;
-        let (delta_i, delta_o) = (ti0.atan2(zi), to0.atan2(zo));
-        let facing = (
-            (-half_pi - delta_i).max(-half_pi - delta_o),
-            (half_pi - delta_i).min(half_pi - delta_o),
-        );
-
+        if let Some(rule) = &self.resonant {
+            return rule.means(self, &pair, facing).0;
+        }
         let mut sums = ThreadMeans::default();
         for &(piece, cos_start, sin_start) in &self.pieces {
             if piece.start == piece.end {
@@ -173,6 +169,46 @@ impl ThreadModel {
         sums
     }
 
+    /// For the resonant rule, the means together with what they cost; `None` for other rules.
+    pub fn resonant_means(&self, wi: DVec3, wo: DVec3) -> Option<(ThreadMeans, ResonantCost)> {
+        let rule = self.resonant.as_ref()?;
+        Some(match self.pair_frame(wi, wo) {
+            Some((pair, facing)) => rule.means(self, &pair, facing),
+            None => Default::default(),
+        })
+    }
+
+    /// The pair in this thread's fixed axes and its facing window, the α interval where both
+    /// directions face the tangent sample; `None` where a direction is parallel to b.
+    fn pair_frame(&self, wi: DVec3, wo: DVec3) -> Option<(PairInThreadFrame, (f64, f64))> {
+        let (ti0, zi, bi) = (wi.dot(self.t0), wi.z, wi.dot(self.b));
+        let (to0, zo, bo) = (wo.dot(self.t0), wo.z, wo.dot(self.b));
+        let par_i = (ti0 * ti0 + zi * zi).sqrt();
+        let par_o = (to0 * to0 + zo * zo).sqrt();
+        if par_i < DEGENERATE_PROJECTION || par_o < DEGENERATE_PROJECTION {
+            return None;
+        }
+        let cos_psi_d = ((ti0 * to0 + zi * zo) / (par_i * par_o)).clamp(-1.0, 1.0);
+        let pair = PairInThreadFrame {
+            ti0,
+            zi,
+            bi,
+            to0,
+            zo,
+            bo,
+            par_i,
+            par_o,
+            u_psi: self.reweight.eval(cos_psi_d.acos()),
+        };
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        let (delta_i, delta_o) = (ti0.atan2(zi), to0.atan2(zo));
+        let facing = (
+            (-half_pi - delta_i).max(-half_pi - delta_o),
+            (half_pi - delta_i).min(half_pi - delta_o),
+        );
+        Some((pair, facing))
+    }
+
     /// Adds one tangent sample at α (given by its cosine and sine) with `weight`.
     #[inline]
     fn accumulate(
@@ -183,6 +219,22 @@ impl ThreadModel {
         weight: f64,
         sums: &mut ThreadMeans,
     ) {
+        if let Some(s) = self.sample(pair, cos_a, sin_a) {
+            sums.masking += weight * s.masking;
+            sums.reflection += weight * s.reflection;
+            sums.transmission += weight * (s.volume + s.diffuse);
+        }
+    }
+
+    /// The terms of one tangent sample at α (given by its cosine and sine), or `None` where
+    /// it contributes nothing (either direction faces away, or a projection is degenerate).
+    #[inline]
+    pub(crate) fn sample(
+        &self,
+        pair: &PairInThreadFrame,
+        cos_a: f64,
+        sin_a: f64,
+    ) -> Option<SampleTerms> {
         let &PairInThreadFrame {
             ti0,
             zi,
@@ -197,15 +249,14 @@ impl ThreadModel {
         let ni = zi * cos_a - ti0 * sin_a;
         let no = zo * cos_a - to0 * sin_a;
         if ni <= 0.0 || no <= 0.0 {
-            return;
+            return None;
         }
         let perp_i = (ni * ni + bi * bi).sqrt();
         let perp_o = (no * no + bo * bo).sqrt();
         if perp_i < DEGENERATE_PROJECTION || perp_o < DEGENERATE_PROJECTION {
-            return;
+            return None;
         }
         let masking_p = reweighted(u_psi, ni / par_i, no / par_o);
-        sums.masking += weight * masking_p;
 
         let cos_phi_d = ((ni * no + bi * bo) / (perp_i * perp_o)).clamp(-1.0, 1.0);
         let u_phi = self.reweight.eval(cos_phi_d.acos());
@@ -222,25 +273,43 @@ impl ThreadModel {
         let fr = fresnel_dielectric(self.eta, cos_theta_d * cos_half_phi_d);
         let ft = (1.0 - fr) * (1.0 - fr);
 
-        let common = weight * shadowing_m * masking_p / (cos_theta_d * cos_theta_d);
-        sums.reflection += common * fr * cos_half_phi_d * self.surface_lobe.eval(theta_h) * perp_i;
-        let volume = (1.0 - self.kd) * self.volume_lobe.eval(theta_h) + self.kd;
-        sums.transmission += common * ft * volume * (perp_i / (perp_i + perp_o));
+        let common = shadowing_m * masking_p / (cos_theta_d * cos_theta_d);
+        let transmission = common * ft * (perp_i / (perp_i + perp_o));
+        Some(SampleTerms {
+            masking: masking_p,
+            reflection: common * fr * cos_half_phi_d * self.surface_lobe.eval(theta_h) * perp_i,
+            volume: transmission * (1.0 - self.kd) * self.volume_lobe.eval(theta_h),
+            diffuse: transmission * self.kd,
+        })
     }
+}
+
+/// The integrand of one tangent sample, split by the lobe each part follows in α:
+/// `s = reflection + A · (volume + diffuse)`, and `P = masking`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct SampleTerms {
+    /// P
+    pub masking: f64,
+    /// `Fr cos(φd/2) g(γs, θh) M P cos θi / cos²θd`: follows the surface lobe.
+    pub reflection: f64,
+    /// `Ft (1 − kd) g(γv, θh) M P cos θi / ((cos θi + cos θo) cos²θd)`: the volume lobe.
+    pub volume: f64,
+    /// `Ft kd M P cos θi / ((cos θi + cos θo) cos²θd)`: no lobe.
+    pub diffuse: f64,
 }
 
 /// The components of a direction pair in a thread's fixed axes {t0, b, z}, with the
 /// α-independent parts of P.
-struct PairInThreadFrame {
-    ti0: f64,
-    zi: f64,
-    bi: f64,
-    to0: f64,
-    zo: f64,
-    bo: f64,
-    par_i: f64,
-    par_o: f64,
-    u_psi: f64,
+pub(crate) struct PairInThreadFrame {
+    pub ti0: f64,
+    pub zi: f64,
+    pub bi: f64,
+    pub to0: f64,
+    pub zo: f64,
+    pub bo: f64,
+    pub par_i: f64,
+    pub par_o: f64,
+    pub u_psi: f64,
 }
 
 /// A fabric prepared for evaluating `F(wi, wo)` with one integration rule.
