@@ -6,7 +6,7 @@ use clothbake::bake_job::{self, BakeJob, Outcome, ResolutionChoice};
 use clothbake::eval_stream::{EvalOutput, eval_stream};
 use clothbake::fabric_file::FabricSet;
 use clothbake::manifest;
-use clothbake::model::{Fabric, Integration, Patch};
+use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use clothbake::render;
 use clothbake::scene::Scene;
 use clothbake::table::Layout;
@@ -37,9 +37,22 @@ enum Command {
         /// Fabric name.
         #[arg(long)]
         fabric: String,
-        /// Paper mode: N stratified samples per thread instead of the converged evaluation.
+        /// How F is evaluated: the converged direct rule (default unless --samples is given),
+        /// paper mode (--samples N strata per thread), or the resonant quadrature.
+        #[arg(long, value_enum)]
+        integration: Option<IntegrationArg>,
+        /// Paper mode: N stratified samples per thread (alone, it selects paper mode).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
         samples: Option<u32>,
+        /// Resonant quadrature: Gauss–Legendre nodes per segment on the surface lobe.
+        #[arg(long, value_parser = resonant_count)]
+        surface_nodes: Option<u32>,
+        /// Resonant quadrature: nodes per segment on the volume lobe.
+        #[arg(long, value_parser = resonant_count)]
+        volume_nodes: Option<u32>,
+        /// Resonant quadrature: nodes per segment for ⟨P⟩ and the kd term.
+        #[arg(long, value_parser = resonant_count)]
+        base_nodes: Option<u32>,
         /// Fabric file (TOML) to use instead of the built-in fabrics.
         #[arg(long)]
         fabrics: Option<PathBuf>,
@@ -193,6 +206,64 @@ enum RenderShaderArg {
     Constant,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum IntegrationArg {
+    /// The converged direct rule, the ground truth.
+    Direct,
+    /// Paper mode: --samples N stratified samples per thread (default 32).
+    Paper,
+    /// The resonant quadrature (--surface-nodes, --volume-nodes, --base-nodes).
+    Resonant,
+}
+
+/// The integration rule that `eval`'s options select; names the option that does not fit.
+fn integration_rule(
+    integration: Option<IntegrationArg>,
+    samples: Option<u32>,
+    nodes: [Option<u32>; 3],
+) -> Result<Integration, String> {
+    let integration = integration.unwrap_or(match samples {
+        Some(_) => IntegrationArg::Paper,
+        None => IntegrationArg::Direct,
+    });
+    if integration != IntegrationArg::Resonant && nodes.iter().any(Option::is_some) {
+        return Err(
+            "--surface-nodes, --volume-nodes and --base-nodes apply to --integration resonant"
+                .into(),
+        );
+    }
+    match integration {
+        IntegrationArg::Direct if samples.is_some() => {
+            Err("--samples applies to paper mode, not --integration direct".into())
+        }
+        IntegrationArg::Direct => Ok(Integration::Direct),
+        IntegrationArg::Paper => Ok(Integration::Paper(
+            samples.unwrap_or(clothbake::gpu::direct::DEFAULT_SAMPLES),
+        )),
+        IntegrationArg::Resonant if samples.is_some() => {
+            Err("--samples applies to paper mode, not --integration resonant".into())
+        }
+        IntegrationArg::Resonant => {
+            let d = ResonantNodes::DEFAULT;
+            Ok(Integration::Resonant(ResonantNodes {
+                surface: nodes[0].unwrap_or(d.surface),
+                volume: nodes[1].unwrap_or(d.volume),
+                base: nodes[2].unwrap_or(d.base),
+            }))
+        }
+    }
+}
+
+/// A resonant node count, 1..=ResonantNodes::MAX.
+fn resonant_count(text: &str) -> Result<u32, String> {
+    let n: u32 = text.parse().map_err(|e| format!("{e}"))?;
+    if (1..=ResonantNodes::MAX).contains(&n) {
+        Ok(n)
+    } else {
+        Err(format!("must be in 1..={}", ResonantNodes::MAX))
+    }
+}
+
 fn parse_layout(name: &str) -> Result<Layout, String> {
     Layout::from_name(name).ok_or_else(|| {
         let names: Vec<&str> = Layout::ALL.iter().map(|l| l.name()).collect();
@@ -220,13 +291,21 @@ fn run(cli: Cli) -> Result<(), String> {
         }
         Command::Eval {
             fabric,
+            integration,
             samples,
+            surface_nodes,
+            volume_nodes,
+            base_nodes,
             fabrics,
             table,
         } => {
+            let integration = integration_rule(
+                integration,
+                samples,
+                [surface_nodes, volume_nodes, base_nodes],
+            )?;
             let set = FabricSet::load_or_builtin(fabrics.as_deref()).map_err(|e| e.to_string())?;
             let fabric = set.require(&fabric)?;
-            let integration = samples.map_or(Integration::Direct, Integration::Paper);
             let patch = Patch::new(fabric, integration);
             let table = table
                 .map(|path| read_table(&path).map_err(|e| e.to_string()))

@@ -44,9 +44,9 @@ impl ResonantNodes {
     /// The default counts: the measured point of the report where every built-in fabric is
     /// within 0.25% relative RMS (see README "Which evaluation to pick").
     pub const DEFAULT: Self = Self {
-        surface: 5,
-        volume: 3,
-        base: 2,
+        surface: 7,
+        volume: 5,
+        base: 3,
     };
 
     /// Checks every count is in 1..=[`Self::MAX`], naming the one that is not.
