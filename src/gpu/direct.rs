@@ -47,7 +47,7 @@ pub struct DirectParams {
 
 /// (−1/(2σ²), 1/(σ√(2π))) of the unit-area Gaussian of standard deviation `sigma` (radians),
 /// as `UnitAreaGaussian::new` prepares it, rounded to f32.
-fn unit_area_gaussian(sigma: f64) -> [f32; 2] {
+pub(crate) fn unit_area_gaussian(sigma: f64) -> [f32; 2] {
     [
         (-0.5 / (sigma * sigma)) as f32,
         (1.0 / (sigma * (2.0 * std::f64::consts::PI).sqrt())) as f32,
@@ -56,7 +56,7 @@ fn unit_area_gaussian(sigma: f64) -> [f32; 2] {
 
 /// The largest f32 strictly below `DEGENERATE_PROJECTION`: for a length that is an f32,
 /// `length <= threshold` in the shader is exactly `length < DEGENERATE_PROJECTION` in f64.
-fn degenerate_threshold() -> f32 {
+pub(crate) fn degenerate_threshold() -> f32 {
     let t = DEGENERATE_PROJECTION as f32;
     if (t as f64) < DEGENERATE_PROJECTION {
         t

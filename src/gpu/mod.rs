@@ -9,6 +9,9 @@
 //!   WGSL, [`layout::lookup_wgsl`]).
 //! - [`GpuDirect`]: the model itself evaluated in the shader (`shaders/direct.wgsl`), paper
 //!   mode with N tangent samples per thread (mirrors `Integration::Paper(N)`).
+//! - [`GpuResonant`]: the resonant quadrature in the shader (`shaders/resonant.wgsl`,
+//!   specialised per fabric and node counts by [`resonant::resonant_wgsl`]; mirrors
+//!   `Integration::Resonant(nodes)`): Gauss–Legendre nodes per segment placed on each lobe.
 //! - [`GpuConstant`]: F = 1/π, the cost of a frame without BRDF work, for measurements.
 //! - [`evaluate_pairs`]: F(wi, wo) for a list of direction pairs by any [`GpuBrdf`]
 //!   (`shaders/eval_pairs.wgsl`), for tests and measurements.
@@ -16,10 +19,12 @@
 pub mod constant;
 pub mod direct;
 pub mod layout;
+pub mod resonant;
 pub mod table;
 
 pub use constant::GpuConstant;
 pub use direct::GpuDirect;
+pub use resonant::GpuResonant;
 pub use table::GpuTable;
 
 use glam::Vec3;

@@ -1,0 +1,336 @@
+// The resonant quadrature (`Integration::Resonant`, src/model/resonant.rs) in f32: the
+// curve means ⟨s⟩_j, ⟨P⟩_j of MODEL.md from Gauss–Legendre nodes placed per pair on each
+// lobe, in the Gaussian-CDF variable t = Φ(z), plus base nodes in α. Mirrors
+// `ResonantRule::means`/`segment` (same node placement, same thresholds) and
+// `ThreadModel::sample`/`pair_frame` of src/model/patch.rs.
+//
+// This file is a template: src/gpu/resonant.rs prepends, per fabric and node counts, the
+// constants it names (`CLOTH_RESONANT_*`: thresholds from the Rust constants, the
+// Gauss–Legendre rules computed in f64 and rounded, both threads' parameters) and the two
+// functions `cloth_resonant_means_0/1`, which call `cloth_resonant_point` and
+// `cloth_resonant_segment` once per curve piece of the thread (the fabric's curve unrolled).
+//
+// Where f32 would lose what f64 keeps:
+// - Φ in the lower tail comes from erfc of a positive argument (relative accuracy ~1e-7
+//   down to Φ ≈ 1e-38), and the segment is reflected to lie in the lower tail as on the
+//   CPU; a node past the median is placed from the complement 1 − t = Φ(−b) + span·(1 − x),
+//   so Φ⁻¹ never sees a p near 1, where f32 has no digits left.
+// - The sample's cos²θd, 1 − Fr and the angles φd, ψd use the forms of direct.wgsl.
+//
+// Every top-level name starts with `cloth_`/`Cloth`/`CLOTH_` (the `GpuBrdf` naming contract).
+
+// One thread family (generated as CLOTH_RESONANT_THREAD_0/1).
+struct ClothResonantThread {
+    // Base tangent t0 and rotation axis b.
+    t0: vec3<f32>,
+    b: vec3<f32>,
+    // Lobe standard deviations σs, σv in radians.
+    sigma: vec2<f32>,
+    // Surface −1/(2σs²), 1/(σs√(2π)); volume −1/(2σv²), 1/(σv√(2π)).
+    lobes: vec4<f32>,
+    // η, kd, 1 if η == 1 exactly (no interface: Fr = 0) else 0, 0.
+    material: vec4<f32>,
+}
+
+// `PairInThreadFrame` with the facing window and the resonant offset α*.
+struct ClothResonantPair {
+    ti0: f32,
+    zi: f32,
+    bi: f32,
+    to0: f32,
+    zo: f32,
+    bo: f32,
+    par_i: f32,
+    par_o: f32,
+    u_psi: f32,
+    // α interval where both directions face the tangent sample.
+    facing: vec2<f32>,
+    resonant: f32,
+    // 0 where a direction is parallel to b (no sample contributes).
+    valid: u32,
+}
+
+// `reweighted`: (1 − u)·a·b + u·min(a, b).
+fn cloth_resonant_reweighted(u: f32, a: f32, b: f32) -> f32 {
+    return (1.0 - u) * a * b + u * min(a, b);
+}
+
+// (Fr, (1 − Fr)²) as in direct.wgsl: 1 − Fr without cancellation at grazing incidence.
+fn cloth_resonant_fresnel(eta: f32, no_interface: bool, cos_i_in: f32) -> vec2<f32> {
+    if no_interface {
+        return vec2<f32>(0.0, 1.0);
+    }
+    let cos_i = clamp(cos_i_in, 0.0, 1.0);
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    let cos_t = sqrt(max(1.0 - sin2_t, 0.0));
+    let ds = cos_i + eta * cos_t;
+    let dp = eta * cos_i + cos_t;
+    let rs = (cos_i - eta * cos_t) / ds;
+    let rp = (eta * cos_i - cos_t) / dp;
+    let transmitted = 2.0 * eta * cos_i * cos_t * (1.0 / (ds * ds) + 1.0 / (dp * dp));
+    return vec2<f32>(0.5 * (rs * rs + rp * rp), transmitted * transmitted);
+}
+
+// For unit 2D vectors: (the angle between them, cos of half of it) by half-angle forms.
+fn cloth_resonant_angle(a: vec2<f32>, c: vec2<f32>) -> vec2<f32> {
+    let sum = length(a + c);
+    return vec2<f32>(2.0 * atan2(length(a - c), sum), min(0.5 * sum, 1.0));
+}
+
+// erfc(x) for x ≥ 0: Numerical Recipes' Chebyshev fit `erfcc` (fractional error < 1.2e-7
+// everywhere), a relative error that holds in the far tail, unlike 1 − erf.
+fn cloth_resonant_erfc_positive(x: f32) -> f32 {
+    let t = 1.0 / (1.0 + 0.5 * x);
+    let poly = -1.26551223 + t * (1.00002368 + t * (0.37409196 + t * (0.09678418
+        + t * (-0.18628806 + t * (0.27886807 + t * (-1.13520398 + t * (1.48851587
+        + t * (-0.82215223 + t * 0.17087277))))))));
+    return t * exp(-x * x + poly);
+}
+
+// Φ(z) = erfc(−z/√2)/2; for z > 0 from the complement, so Φ(z) for z ≤ 0 keeps its
+// relative accuracy (the only side the node placement relies on for small values).
+fn cloth_resonant_cdf(z: f32) -> f32 {
+    let x = abs(z) * 0.70710678;
+    let tail = 0.5 * cloth_resonant_erfc_positive(x);
+    return select(tail, 1.0 - tail, z > 0.0);
+}
+
+// φ(z), the standard normal density.
+fn cloth_resonant_pdf(z: f32) -> f32 {
+    return 0.39894228 * exp(-0.5 * z * z);
+}
+
+// Φ⁻¹(p) for p in (0, 1/2]: Acklam's rational approximation (relative error 1.2e-9, far
+// below f32) and one Halley step on Φ(z) − p as on the CPU, which here corrects Acklam's
+// f32 evaluation to the accuracy of `cloth_resonant_cdf`. p is kept above 0: the segments
+// reaching this are within NEGLIGIBLE_LOBE_Z of the peak, so p ≥ Φ(−6)·x_min ≫ 1e-30.
+fn cloth_resonant_quantile(p_in: f32) -> f32 {
+    let p = max(p_in, 1e-30);
+    var z: f32;
+    if p < 0.02425 {
+        let r = sqrt(-2.0 * log(p));
+        z = (((((-7.784894002430293e-3 * r - 3.223964580411365e-1) * r - 2.400758277161838) * r
+            - 2.549732539343734) * r + 4.374664141464968) * r + 2.938163982698783)
+            / ((((7.784695709041462e-3 * r + 3.224671290700398e-1) * r + 2.445134137142996) * r
+            + 3.754408661907416) * r + 1.0);
+    } else {
+        let q = p - 0.5;
+        let r = q * q;
+        z = (((((-3.969683028665376e1 * r + 2.209460984245205e2) * r - 2.759285104469687e2) * r
+            + 1.383577518672690e2) * r - 3.066479806614716e1) * r + 2.506628277459239) * q
+            / (((((-5.447609879822406e1 * r + 1.615858368580409e2) * r - 1.556989798598866e2) * r
+            + 6.680131188771972e1) * r - 1.328068155288572e1) * r + 1.0);
+    }
+    // Halley on Φ(z) − p. The correction is relative to p (|u| ≲ 1e-6), so forming
+    // e = Φ(z) − p in f32 costs no digits that the step needs.
+    let e = cloth_resonant_cdf(z) - p;
+    let u = e / cloth_resonant_pdf(z);
+    return z - u / (1.0 + 0.5 * z * u);
+}
+
+// `ThreadModel::pair_frame` plus α* = −atan2(h·t0, h·z), h = wi + wo.
+fn cloth_resonant_pair(thread: ClothResonantThread, wi: vec3<f32>, wo: vec3<f32>) -> ClothResonantPair {
+    var p: ClothResonantPair;
+    p.ti0 = dot(wi, thread.t0);
+    p.zi = wi.z;
+    p.bi = dot(wi, thread.b);
+    p.to0 = dot(wo, thread.t0);
+    p.zo = wo.z;
+    p.bo = dot(wo, thread.b);
+    p.par_i = sqrt(p.ti0 * p.ti0 + p.zi * p.zi);
+    p.par_o = sqrt(p.to0 * p.to0 + p.zo * p.zo);
+    p.valid = 0u;
+    if p.par_i <= CLOTH_RESONANT_THRESHOLD || p.par_o <= CLOTH_RESONANT_THRESHOLD {
+        return p;
+    }
+    p.valid = 1u;
+    let psi_d = cloth_resonant_angle(vec2<f32>(p.ti0, p.zi) / p.par_i,
+        vec2<f32>(p.to0, p.zo) / p.par_o).x;
+    p.u_psi = exp(psi_d * psi_d * CLOTH_RESONANT_K_U);
+    let half_pi = 1.5707964;
+    let delta_i = atan2(p.ti0, p.zi);
+    let delta_o = atan2(p.to0, p.zo);
+    p.facing = vec2<f32>(max(-half_pi - delta_i, -half_pi - delta_o),
+        min(half_pi - delta_i, half_pi - delta_o));
+    p.resonant = -atan2(p.ti0 + p.to0, p.zi + p.zo);
+    return p;
+}
+
+// `theta_h_and_slope`: θh at α and dθh/dα = (cos φi + cos φo)/2.
+fn cloth_resonant_theta_h(p: ClothResonantPair, alpha: f32) -> vec2<f32> {
+    let cos_a = cos(alpha);
+    let sin_a = sin(alpha);
+    let ni = p.zi * cos_a - p.ti0 * sin_a;
+    let no = p.zo * cos_a - p.to0 * sin_a;
+    let si = p.ti0 * cos_a + p.zi * sin_a;
+    let so = p.to0 * cos_a + p.zo * sin_a;
+    let perp_i = sqrt(ni * ni + p.bi * p.bi);
+    let perp_o = sqrt(no * no + p.bo * p.bo);
+    let ki = select(0.0, ni / perp_i, perp_i > 0.0);
+    let ko = select(0.0, no / perp_o, perp_o > 0.0);
+    return vec2<f32>(0.5 * (atan2(si, perp_i) + atan2(so, perp_o)), 0.5 * (ki + ko));
+}
+
+// `ThreadModel::sample` at α: (P, reflection, volume, diffuse) of `SampleTerms`, 0 where
+// either direction faces away or a projection is degenerate.
+fn cloth_resonant_sample(thread: ClothResonantThread, p: ClothResonantPair, alpha: f32) -> vec4<f32> {
+    let cos_a = cos(alpha);
+    let sin_a = sin(alpha);
+    let ni = p.zi * cos_a - p.ti0 * sin_a;
+    let no = p.zo * cos_a - p.to0 * sin_a;
+    if ni <= 0.0 || no <= 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let perp_i = sqrt(ni * ni + p.bi * p.bi);
+    let perp_o = sqrt(no * no + p.bo * p.bo);
+    if perp_i <= CLOTH_RESONANT_THRESHOLD || perp_o <= CLOTH_RESONANT_THRESHOLD {
+        return vec4<f32>(0.0);
+    }
+    let masking_p = cloth_resonant_reweighted(p.u_psi, ni / p.par_i, no / p.par_o);
+    let phi = cloth_resonant_angle(vec2<f32>(ni, p.bi) / perp_i, vec2<f32>(no, p.bo) / perp_o);
+    let u_phi = exp(phi.x * phi.x * CLOTH_RESONANT_K_U);
+    let cos_half_phi_d = phi.y;
+    let shadowing_m = cloth_resonant_reweighted(u_phi, ni / perp_i, no / perp_o);
+
+    let si = p.ti0 * cos_a + p.zi * sin_a;
+    let so = p.to0 * cos_a + p.zo * sin_a;
+    let theta_h = 0.5 * (atan2(si, perp_i) + atan2(so, perp_o));
+    // cos²θd = (1 + ĉi ĉo + ŝi ŝo)/2, rewritten where ŝi ŝo < 0 cancels (direct.wgsl).
+    let ri = sqrt(si * si + perp_i * perp_i);
+    let ro = sqrt(so * so + perp_o * perp_o);
+    let ci = perp_i / ri;
+    let co = perp_o / ro;
+    let sin_i = si / ri;
+    let sin_o = so / ro;
+    var cos2_theta_d = 0.5 * (1.0 + ci * co + sin_i * sin_o);
+    if sin_i * sin_o < 0.0 {
+        let di = ci * ci / (1.0 + abs(sin_i));
+        let do_ = co * co / (1.0 + abs(sin_o));
+        cos2_theta_d = 0.5 * (di + do_ - di * do_ + ci * co);
+    }
+    cos2_theta_d = min(cos2_theta_d, 1.0);
+    let fresnel = cloth_resonant_fresnel(thread.material.x, thread.material.z != 0.0,
+        sqrt(cos2_theta_d) * cos_half_phi_d);
+
+    let bounded = shadowing_m * masking_p / cos2_theta_d;
+    let transmission = bounded * fresnel.y * (perp_i / (perp_i + perp_o));
+    let theta_h2 = theta_h * theta_h;
+    let kd = thread.material.y;
+    return vec4<f32>(
+        masking_p,
+        bounded * fresnel.x * cos_half_phi_d * thread.lobes.y * exp(theta_h2 * thread.lobes.x) * perp_i,
+        transmission * (1.0 - kd) * thread.lobes.w * exp(theta_h2 * thread.lobes.z),
+        transmission * kd);
+}
+
+// A flat piece: its whole share `weight` at α, every term, if α is inside the facing window.
+// Returns (⟨reflection⟩, ⟨transmission⟩, ⟨P⟩) contributions.
+fn cloth_resonant_point(thread: ClothResonantThread, p: ClothResonantPair, alpha: f32, weight: f32) -> vec3<f32> {
+    if !(alpha > p.facing.x && alpha < p.facing.y) {
+        return vec3<f32>(0.0);
+    }
+    let s = cloth_resonant_sample(thread, p, alpha);
+    return weight * vec3<f32>(s.y, s.z + s.w, s.x);
+}
+
+// `ResonantRule::segment`: the segment [start, end] (density = share/length per radian)
+// clipped to the facing window. Returns (⟨reflection⟩, ⟨transmission⟩, ⟨P⟩) contributions.
+fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, start: f32, end: f32, density: f32) -> vec3<f32> {
+    let lo = max(start, p.facing.x);
+    let hi = min(end, p.facing.y);
+    if lo >= hi {
+        return vec3<f32>(0.0);
+    }
+    let centre = clamp(p.resonant, lo, hi);
+    let probe = cloth_resonant_theta_h(p, centre);
+    let theta_c = probe.x;
+    let slope = probe.y;
+    var sums = vec3<f32>(0.0);
+    var on_base = vec2<bool>(false, false);
+    for (var lobe = 0u; lobe < 2u; lobe++) {
+        let sigma = thread.sigma[lobe];
+        // z linearised at the point nearest α*.
+        let z_lo = (theta_c + slope * (lo - centre)) / sigma;
+        let z_hi = (theta_c + slope * (hi - centre)) / sigma;
+        // `!(slope > 0)` also sends a NaN slope to the base nodes.
+        if !(slope > 0.0) || z_hi - z_lo <= CLOTH_RESONANT_FLAT_LOBE_SPAN {
+            on_base[lobe] = true;
+            continue;
+        }
+        if abs(theta_c) / sigma > CLOTH_RESONANT_NEGLIGIBLE_LOBE_Z {
+            continue;
+        }
+        // Reflect a segment wholly above the peak into the lower tail.
+        let mirrored = z_lo > 0.0;
+        let side = select(1.0, -1.0, mirrored);
+        let a = select(z_lo, -z_hi, mirrored);
+        let b = select(z_hi, -z_lo, mirrored);
+        let t_lo = cloth_resonant_cdf(a);
+        // 1 − t_hi = Φ(−b), accurate where t_hi is near 1.
+        let u_hi = cloth_resonant_cdf(-b);
+        let t_hi = cloth_resonant_cdf(b);
+        let span = t_hi - t_lo;
+        var rule = CLOTH_RESONANT_RULES[lobe];
+        if span < CLOTH_RESONANT_TAIL_MASS / 8.0 {
+            rule = CLOTH_RESONANT_RULES[5u + lobe];
+        } else if span < CLOTH_RESONANT_TAIL_MASS {
+            rule = CLOTH_RESONANT_RULES[3u + lobe];
+        }
+        // dα = (σ/k) dz and dz = dt/φ(z).
+        let scale = density * span * sigma / slope;
+        for (var k = rule.x; k < rule.x + rule.y; k++) {
+            let node = CLOTH_RESONANT_GL[k];
+            let t = t_lo + span * node.x;
+            var zn: f32;
+            if t <= 0.5 {
+                zn = cloth_resonant_quantile(t);
+            } else {
+                zn = -cloth_resonant_quantile(u_hi + span * (1.0 - node.x));
+            }
+            zn *= side;
+            let alpha = centre + (sigma * zn - theta_c) / slope;
+            let weight = scale * node.y / cloth_resonant_pdf(zn);
+            let s = cloth_resonant_sample(thread, p, alpha);
+            if lobe == 0u {
+                sums.x += weight * s.y;
+            } else {
+                sums.y += weight * s.z;
+            }
+        }
+    }
+    // Base nodes in α: ⟨P⟩, the kd term, and the lobes smooth over the segment.
+    let width = hi - lo;
+    let base = CLOTH_RESONANT_RULES[2];
+    for (var k = base.x; k < base.x + base.y; k++) {
+        let node = CLOTH_RESONANT_GL[k];
+        let weight = density * width * node.y;
+        let s = cloth_resonant_sample(thread, p, lo + width * node.x);
+        sums.z += weight * s.x;
+        sums.y += weight * s.w;
+        if on_base.x {
+            sums.x += weight * s.y;
+        }
+        if on_base.y {
+            sums.y += weight * s.z;
+        }
+    }
+    return sums;
+}
+
+// `Patch::eval`: F = [a1⟨s⟩1 + a2⟨s⟩2]/Q, Q = a1⟨P⟩1 + a2⟨P⟩2 + gap·wo.z; 0 below the
+// horizon and where Q = 0.
+fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    if wi.z <= 0.0 || wo.z <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let m1 = cloth_resonant_means_0(wi, wo);
+    let m2 = cloth_resonant_means_1(wi, wo);
+    let a1 = CLOTH_RESONANT_COVERAGE.x;
+    let a2 = CLOTH_RESONANT_COVERAGE.y;
+    let q = a1 * m1.z + a2 * m2.z + CLOTH_RESONANT_GAP * wo.z;
+    if q <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    return vec3<f32>((a1 * m1.x + a2 * m2.x) / q) + CLOTH_RESONANT_ALBEDO_0 * (a1 * m1.y / q)
+        + CLOTH_RESONANT_ALBEDO_1 * (a2 * m2.y / q);
+}
