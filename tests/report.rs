@@ -3,6 +3,7 @@
 //! No timing is asserted (the machine's speed is not under test).
 
 use clothbake::fabric_file::FabricSet;
+use clothbake::model::ResonantNodes;
 use clothbake::report::{ReportConfig, run};
 use clothbake::table::Layout;
 use serde_json::Value;
@@ -31,6 +32,14 @@ fn tiny_config() -> ReportConfig {
         thread_frame_resolutions: vec![8, 12],
         grid4d_resolutions: vec![4, 6],
         paper_samples: vec![1, 4, 16],
+        resonant_nodes: vec![
+            ResonantNodes {
+                surface: 3,
+                volume: 2,
+                base: 2,
+            },
+            ResonantNodes::DEFAULT,
+        ],
         bake_repetitions: 1,
         speedup_layout: Layout::Grid4d,
         speedup_resolution: 4,
@@ -140,6 +149,47 @@ fn tiny_report_writes_json_markdown_and_plots() {
             check_error(&p["error"], &format!("{name} paper"));
             check_timing(&p["timing"], 3, &format!("{name} paper"));
         }
+        let resonant = f["resonant"].as_array().expect("resonant array");
+        assert_eq!(
+            resonant
+                .iter()
+                .map(|r| r["label"].as_str().unwrap())
+                .collect::<Vec<_>>(),
+            ["3/2/2", "7/5/3"]
+        );
+        assert_eq!(
+            resonant
+                .iter()
+                .map(|r| r["default"].as_bool().unwrap())
+                .collect::<Vec<_>>(),
+            [false, true]
+        );
+        for r in resonant {
+            let what = format!("{name} resonant {}", r["label"]);
+            assert!(r["nodes"]["surface"].as_u64().is_some(), "{what}");
+            check_error(&r["error"], &what);
+            check_timing(&r["timing"], 3, &what);
+            let per_light = &r["evaluations_per_light"];
+            let uniform = finite(&per_light["uniform"], &what);
+            let highlight = finite(&per_light["highlight"], &what);
+            assert!(uniform > 0.0 && highlight > 0.0, "{what}");
+            assert!(per_light["max"].as_u64().unwrap() as f64 >= uniform.max(highlight));
+            // Either a paper-mode point at least as accurate with the cost ratio to it, or
+            // neither.
+            assert_eq!(
+                r["paper_equal_error"].is_null(),
+                r["cost_ratio_to_paper"].is_null(),
+                "{what}"
+            );
+            if !r["cost_ratio_to_paper"].is_null() {
+                assert!(finite(&r["cost_ratio_to_paper"], &what) > 0.0);
+            }
+        }
+        // More nodes: at least as many kernel evaluations per light.
+        assert!(
+            resonant[1]["evaluations_per_light"]["uniform"].as_f64()
+                >= resonant[0]["evaluations_per_light"]["uniform"].as_f64()
+        );
         let tables = f["tables"].as_array().unwrap();
         let ids: Vec<(String, u64)> = tables
             .iter()
@@ -168,6 +218,23 @@ fn tiny_report_writes_json_markdown_and_plots() {
         // A larger grid4d table has more texels than a smaller one.
         assert!(tables[3]["bytes"].as_u64() > tables[2]["bytes"].as_u64());
         assert_eq!(f["verdicts"].as_array().unwrap().len(), tables.len());
+        for v in f["verdicts"].as_array().unwrap() {
+            let best = &v["vs_best_evaluation"];
+            assert!(best["table_wins"].is_boolean(), "{name}: {v}");
+            // Judged against paper mode and resonant together, a table wins at most where
+            // it wins against paper mode alone.
+            if best["table_wins"] == true {
+                assert_eq!(v["table_wins"], true, "{name}: {v}");
+            }
+            if let Some(e) = best["equal_error"].as_object() {
+                let evaluation = e["evaluation"].as_str().unwrap();
+                assert!(
+                    evaluation.starts_with("paper N = ") || evaluation.starts_with("resonant "),
+                    "{evaluation}"
+                );
+                assert!(finite(&best["speed_ratio"], "speed ratio") > 0.0);
+            }
+        }
         // The bake is documented bit-identical for any thread count.
         assert_eq!(f["speedup"]["identical"], true, "{name}");
         assert!(finite(&f["speedup"]["speedup"], "speedup") > 0.0);
@@ -178,6 +245,10 @@ fn tiny_report_writes_json_markdown_and_plots() {
         "## Summary",
         "## Error against table size",
         "## Error against CPU cost",
+        "## Resonant quadrature",
+        "7/5/3 (default)",
+        "winner vs resonant",
+        "Resonant against paper mode at equal error",
         "## Bake time",
         "## GPU",
         "linen_plain",
@@ -188,12 +259,13 @@ fn tiny_report_writes_json_markdown_and_plots() {
     }
 
     // Series colours of the plots (src/report/plots.rs): thread_frame blue, grid4d red,
-    // paper mode green.
+    // paper mode green, resonant purple.
     let blue = [31, 119, 180];
     let red = [214, 39, 40];
     let green = [44, 160, 44];
+    let purple = [148, 103, 189];
     check_png(&out.join("error_vs_size.png"), &[blue, red]);
-    check_png(&out.join("error_vs_cost.png"), &[blue, red, green]);
+    check_png(&out.join("error_vs_cost.png"), &[blue, red, green, purple]);
     check_png(&out.join("bake_time.png"), &[blue]);
     let files: Vec<&str> = json["files"]
         .as_array()

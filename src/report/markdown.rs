@@ -1,6 +1,6 @@
 //! REPORT.md: the report's figures as Markdown tables, with the plots and the method.
 
-use super::{FabricReport, PaperPoint, Report, TablePoint, Verdict, plots, worst};
+use super::{FabricReport, PaperPoint, Report, ResonantPoint, TablePoint, Verdict, plots, worst};
 use crate::table::Layout;
 use std::fmt::Write;
 
@@ -75,14 +75,29 @@ fn verdict_row(fabric: &str, t: &TablePoint, v: &Verdict) -> String {
     } else {
         "paper mode"
     };
+    let best = &v.vs_best_evaluation;
+    let best_equal_error = best.equal_error.as_ref().map_or_else(
+        || "none measured".to_string(),
+        |e| format!("{} ({} ns)", e.evaluation, num(e.ns_per_eval)),
+    );
+    let best_outcome = if best.table_wins {
+        "**table**".to_string()
+    } else {
+        // The evaluation that dominates: the cheapest one at least as accurate.
+        best.equal_error
+            .as_ref()
+            .map_or("evaluation".to_string(), |e| e.evaluation.clone())
+    };
     format!(
-        "| {fabric} | {} | {} | {} | {} | {equal_error} | {} | {equal_cost} | {} | {outcome} |\n",
+        "| {fabric} | {} | {} | {} | {} | {equal_error} | {} | {equal_cost} | {} | {outcome} \
+         | {best_equal_error} | {} | {best_outcome} |\n",
         table_name(t.layout, t.resolution),
         size(t.bytes),
         pct(v.error),
         num(v.ns_per_eval),
         ratio(v.speed_ratio),
         ratio(v.error_ratio),
+        ratio(best.speed_ratio),
     )
 }
 
@@ -124,6 +139,39 @@ fn summary(report: &Report, md: &mut String) {
             }
         );
     }
+    for layout in [Layout::ThreadFrame, Layout::Grid4d] {
+        let of: Vec<_> = all.iter().filter(|(_, t, _)| t.layout == layout).collect();
+        let won = of
+            .iter()
+            .filter(|(_, _, v)| v.vs_best_evaluation.table_wins)
+            .count();
+        let losers: Vec<String> = of
+            .iter()
+            .filter(|(_, _, v)| !v.vs_best_evaluation.table_wins)
+            .map(|(f, t, v)| {
+                let by = v
+                    .vs_best_evaluation
+                    .equal_error
+                    .as_ref()
+                    .map_or(String::new(), |e| format!(" ({})", e.evaluation));
+                format!("{} at {}{by}", f.name, t.resolution)
+            })
+            .collect();
+        let _ = writeln!(
+            md,
+            "- **{layout} against the best evaluation** (paper mode or resonant, \
+             vs resonant): the table wins in {won} of {} cases{}.",
+            of.len(),
+            if losers.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; an evaluation is at least as fast and as accurate for {}",
+                    losers.join(", ")
+                )
+            }
+        );
+    }
     md.push('\n');
     let _ = writeln!(
         md,
@@ -138,16 +186,25 @@ fn summary(report: &Report, md: &mut String) {
          at least as accurate as the table, and how many times slower it is than the lookup. \
          *Equal cost*: the most accurate paper-mode N no slower than the lookup, and how many \
          times larger its error is. The table wins when no paper-mode point is both at least \
-         as accurate and at least as fast, which is the same as winning on both comparisons.\n"
+         as accurate and at least as fast, which is the same as winning on both comparisons. \
+         *vs resonant*: the same judgement against every evaluation of the model measured \
+         (paper mode at each N and the resonant quadrature at each node count): the cheapest \
+         evaluation at least as accurate as the table, how many times slower it is than the \
+         lookup, and the winner (the table, or the evaluation that is at least as fast and as \
+         accurate).\n"
     );
     budgets(report, md);
     let _ = writeln!(md, "Every table against paper mode:\n");
     let _ = writeln!(
         md,
         "| fabric | table | size | error | ns/lookup | paper at equal error | table faster by \
-         | paper at equal cost | table more accurate by | winner |"
+         | paper at equal cost | table more accurate by | winner | best evaluation at equal \
+         error | table faster by | winner vs resonant |"
     );
-    let _ = writeln!(md, "|---|---|---:|---:|---:|---|---:|---|---:|---|");
+    let _ = writeln!(
+        md,
+        "|---|---|---:|---:|---:|---|---:|---|---:|---|---|---:|---|"
+    );
     for (f, t, v) in &all {
         md.push_str(&verdict_row(&f.name, t, v));
     }
@@ -156,6 +213,14 @@ fn summary(report: &Report, md: &mut String) {
 
 /// Error budgets of the summary table (worse of uniform and highlight relative RMS).
 const BUDGETS: [f64; 6] = [0.01, 0.02, 0.05, 0.1, 0.2, 0.5];
+
+/// The cheapest resonant point of `f` within `budget`.
+fn cheapest_resonant(f: &FabricReport, budget: f64) -> Option<&ResonantPoint> {
+    f.resonant
+        .iter()
+        .filter(|r| worst(&r.error) <= budget)
+        .min_by(|a, b| a.timing.ns_per_eval.total_cmp(&b.timing.ns_per_eval))
+}
 
 /// The cheapest table and the cheapest paper-mode point of `f` within `budget`.
 fn cheapest(f: &FabricReport, budget: f64) -> (Option<&TablePoint>, Option<&PaperPoint>) {
@@ -220,13 +285,16 @@ fn budgets(report: &Report, md: &mut String) {
         md,
         "**By error budget**: the cheapest table (any layout and resolution measured) and the \
          cheapest paper-mode N whose error is within the budget, their CPU cost per \
-         evaluation, and how many times faster the faster one is.\n"
+         evaluation, and how many times faster the faster one is; then the cheapest resonant \
+         node counts within the budget and how the table compares with the faster of paper \
+         mode and the resonant quadrature (vs resonant).\n"
     );
     let _ = writeln!(
         md,
-        "| fabric | budget | cheapest table | cheapest paper mode | faster |"
+        "| fabric | budget | cheapest table | cheapest paper mode | faster | cheapest resonant \
+         | table vs best evaluation |"
     );
-    let _ = writeln!(md, "|---|---:|---|---|---|");
+    let _ = writeln!(md, "|---|---:|---|---|---|---|---|");
     for f in &report.fabrics {
         for budget in BUDGETS {
             let (table, paper) = cheapest(f, budget);
@@ -259,9 +327,40 @@ fn budgets(report: &Report, md: &mut String) {
                 (None, Some(_)) => "paper mode (only)".into(),
                 (None, None) => "–".into(),
             };
+            let resonant = cheapest_resonant(f, budget);
+            let resonant_cell = resonant.map_or("none measured".to_string(), |r| {
+                format!(
+                    "{} ({}, {} ns)",
+                    r.label,
+                    pct(worst(&r.error)),
+                    num(r.timing.ns_per_eval)
+                )
+            });
+            // The cheaper of paper mode and resonant within the budget.
+            let best = [
+                paper.map(|p| (format!("paper N = {}", p.samples), p.timing.ns_per_eval)),
+                resonant.map(|r| (format!("resonant {}", r.label), r.timing.ns_per_eval)),
+            ]
+            .into_iter()
+            .flatten()
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+            let versus = match (table, best) {
+                (Some(t), Some((label, ns))) => {
+                    let r = ns / t.lookup.ns_per_eval;
+                    if r >= 1.0 {
+                        format!("**table**, {} (vs {label})", ratio(Some(r)))
+                    } else {
+                        format!("{label}, {}", ratio(Some(1.0 / r)))
+                    }
+                }
+                (Some(_), None) => "**table** (only)".into(),
+                (None, Some((label, _))) => format!("{label} (only)"),
+                (None, None) => "–".into(),
+            };
             let _ = writeln!(
                 md,
-                "| {} | {:.0}% | {table_cell} | {paper_cell} | {faster} |",
+                "| {} | {:.0}% | {table_cell} | {paper_cell} | {faster} | {resonant_cell} | \
+                 {versus} |",
                 f.name,
                 100.0 * budget
             );
@@ -320,8 +419,20 @@ fn method(report: &Report, md: &mut String) {
     );
     let _ = writeln!(
         md,
-        "- Resolutions: thread_frame {:?}, grid4d {:?}; paper mode N = {:?}.\n",
-        c.thread_frame_resolutions, c.grid4d_resolutions, c.paper_samples
+        "- **Kernel evaluations per light** (resonant quadrature): the tangent samples whose \
+         terms the two threads compute for one (wi, wo) (`ResonantCost::samples` of \
+         `ThreadModel::resonant_means`, summed over both threads), averaged over the uniform \
+         and over the highlight pairs of the error sets."
+    );
+    let resonant: Vec<String> = c.resonant_nodes.iter().map(|n| n.to_string()).collect();
+    let _ = writeln!(
+        md,
+        "- Resolutions: thread_frame {:?}, grid4d {:?}; paper mode N = {:?}; resonant \
+         nodes (surface/volume/base) {}.\n",
+        c.thread_frame_resolutions,
+        c.grid4d_resolutions,
+        c.paper_samples,
+        resonant.join(", ")
     );
 }
 
@@ -393,7 +504,8 @@ fn paper_section(report: &Report, md: &mut String) {
     let _ = writeln!(
         md,
         "Paper mode at N samples per thread, against the direct evaluation (whose own cost is \
-         the first row of each fabric). Table lookups are in the table above and the plot.\n"
+         the first row of each fabric). Table lookups are in the table above and the plot; \
+         the resonant quadrature is in the next section and in the plot.\n"
     );
     let _ = writeln!(
         md,
@@ -420,6 +532,123 @@ fn paper_section(report: &Report, md: &mut String) {
                 ratio(Some(f.direct.ns_per_eval / p.timing.ns_per_eval))
             );
         }
+    }
+    md.push('\n');
+}
+
+/// The resonant point a fabric's comparison with paper mode is quoted for: the default node
+/// counts when measured, else the most accurate point.
+fn headline_resonant(f: &FabricReport) -> Option<&ResonantPoint> {
+    f.resonant.iter().find(|r| r.default).or_else(|| {
+        f.resonant
+            .iter()
+            .min_by(|a, b| worst(&a.error).total_cmp(&worst(&b.error)))
+    })
+}
+
+fn resonant_section(report: &Report, md: &mut String) {
+    let _ = writeln!(md, "## Resonant quadrature\n");
+    if report.fabrics.iter().all(|f| f.resonant.is_empty()) {
+        let _ = writeln!(md, "Not measured in this run.\n");
+        return;
+    }
+    let _ = writeln!(
+        md,
+        "The resonant quadrature (`Integration::Resonant`): Gauss–Legendre nodes per lobe in \
+         the Gaussian's CDF variable, per curve segment, at the node counts surface/volume/base \
+         below ({} is the default). Errors against the same direct evaluation as paper mode; \
+         cost in CPU ns per evaluation, timed in the same interleaved run as paper mode and \
+         the tables; kernel evaluations per light on the uniform and the highlight pairs. \
+         *Paper at equal error*: the cheapest paper-mode N at least as accurate as the point; \
+         *resonant / paper*: the point's cost over that N's (below 1, the resonant quadrature \
+         is cheaper at equal error).\n",
+        crate::model::ResonantNodes::DEFAULT
+    );
+    let _ = writeln!(
+        md,
+        "| fabric | nodes | uniform | highlight | both ≥ 15° | ns/eval | × cheaper than direct \
+         | evaluations/light (uniform) | evaluations/light (highlight) | paper at equal error \
+         | resonant / paper |"
+    );
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|---:|---|---:|");
+    for f in &report.fabrics {
+        for r in &f.resonant {
+            let _ = writeln!(
+                md,
+                "| {} | {}{} | {} | {} | {} | {} | {} | {:.1} | {:.1} | {} | {} |",
+                f.name,
+                r.label,
+                if r.default { " (default)" } else { "" },
+                pct(r.error.uniform.relative_rms),
+                pct(r.error.highlight.relative_rms),
+                pct(r.error.uniform_above_15deg.relative_rms),
+                num(r.timing.ns_per_eval),
+                ratio(Some(f.direct.ns_per_eval / r.timing.ns_per_eval)),
+                r.evaluations_per_light.uniform,
+                r.evaluations_per_light.highlight,
+                r.paper_equal_error.as_ref().map_or_else(
+                    || "none up to the largest N".to_string(),
+                    |p| format!(
+                        "N = {} ({}, {} ns)",
+                        p.samples,
+                        pct(p.error),
+                        num(p.ns_per_eval)
+                    )
+                ),
+                ratio(r.cost_ratio_to_paper),
+            );
+        }
+    }
+    md.push('\n');
+    let _ = writeln!(
+        md,
+        "**Resonant against paper mode at equal error** (the default node counts, or the most \
+         accurate measured when the default was not; error = the worse of uniform and \
+         highlight):\n"
+    );
+    for f in &report.fabrics {
+        let Some(r) = headline_resonant(f) else {
+            continue;
+        };
+        let head = format!(
+            "- {}: resonant {} ({}, {} ns)",
+            f.name,
+            r.label,
+            pct(worst(&r.error)),
+            num(r.timing.ns_per_eval)
+        );
+        let _ = match (&r.paper_equal_error, r.cost_ratio_to_paper) {
+            (Some(p), Some(c)) => writeln!(
+                md,
+                "{head} costs {} of paper mode at equal error, N = {} ({}, {} ns){}.",
+                ratio(Some(c)),
+                p.samples,
+                pct(p.error),
+                num(p.ns_per_eval),
+                if c < 1.0 {
+                    format!(": {} faster", ratio(Some(1.0 / c)))
+                } else {
+                    String::new()
+                }
+            ),
+            _ => {
+                let best = f
+                    .paper
+                    .iter()
+                    .min_by(|a, b| worst(&a.error).total_cmp(&worst(&b.error)));
+                writeln!(
+                    md,
+                    "{head}: no paper-mode N measured is as accurate{}, so there is no cost \
+                     ratio at equal error.",
+                    best.map_or(String::new(), |p| format!(
+                        " (the most accurate, N = {}, is at {}, {} ns)",
+                        p.samples,
+                        pct(worst(&p.error)),
+                        num(p.timing.ns_per_eval)
+                    ))
+                )
+            }
+        };
     }
     md.push('\n');
 }
@@ -608,6 +837,7 @@ pub fn render(report: &Report) -> String {
     method(report, &mut md);
     tables_section(report, &mut md);
     paper_section(report, &mut md);
+    resonant_section(report, &mut md);
     bake_section(report, &mut md);
     gpu_section(report, &mut md);
     md

@@ -10,9 +10,15 @@
 //!   bake time;
 //! - paper mode at N samples per thread: its error and its nanoseconds per evaluation, and
 //!   the direct evaluation's cost;
+//! - the resonant quadrature ([`crate::model::ResonantNodes`]) at several node counts: its
+//!   error, its nanoseconds per evaluation, the kernel evaluations it makes per light (both
+//!   threads' tangent samples, averaged over the uniform and the highlight pairs) and its
+//!   cost against paper mode's at equal error;
 //! - the speed-up of a bake from one to two threads, and whether both give the same texels;
 //! - a verdict per table: is it faster than paper mode at equal error and more accurate at
 //!   equal cost (equivalently, is no paper-mode point at least as fast and as accurate)?
+//!   And the same against every evaluation of the model measured (paper mode and the
+//!   resonant quadrature), so that a table is judged against the best of them.
 //!
 //! The GPU section ([`gpu`]) records the adapter and what could be measured on it; without
 //! an adapter it says so and measures nothing.
@@ -27,8 +33,9 @@ pub mod timing;
 
 use crate::accuracy::{Reference, TableError};
 use crate::bake::{BakeError, bake};
-use crate::direction_sets::uniform_pairs;
-use crate::model::{Fabric, Integration, Patch};
+use crate::direction_sets::{highlight_pairs, uniform_pairs};
+use crate::model::patch::ThreadModel;
+use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::table::{Layout, Table};
 use glam::DVec3;
 use serde::Serialize;
@@ -62,6 +69,8 @@ pub struct ReportConfig {
     pub grid4d_resolutions: Vec<u32>,
     /// Paper-mode sample counts N (per thread).
     pub paper_samples: Vec<u32>,
+    /// Node counts of the resonant quadrature measured (surface/volume/base per segment).
+    pub resonant_nodes: Vec<ResonantNodes>,
     /// Bakes per table whose median is the bake time.
     pub bake_repetitions: usize,
     /// A bake that takes longer than this (seconds) is not repeated: it bounds the run time
@@ -84,6 +93,29 @@ pub struct ReportConfig {
 /// Paper-mode sample counts the report compares against.
 pub const PAPER_SAMPLES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
 
+/// Resonant node counts of the full report, cheapest first; 7/5/3 is
+/// [`ResonantNodes::DEFAULT`].
+pub const RESONANT_NODES: [ResonantNodes; 6] = [
+    nodes(3, 2, 2),
+    nodes(4, 3, 2),
+    nodes(5, 3, 2),
+    nodes(5, 4, 3),
+    ResonantNodes::DEFAULT,
+    nodes(8, 6, 4),
+];
+
+/// Resonant node counts of `--quick`: a coarse, a middle and the default point.
+pub const QUICK_RESONANT_NODES: [ResonantNodes; 3] =
+    [nodes(3, 2, 2), nodes(5, 3, 2), ResonantNodes::DEFAULT];
+
+const fn nodes(surface: u32, volume: u32, base: u32) -> ResonantNodes {
+    ResonantNodes {
+        surface,
+        volume,
+        base,
+    }
+}
+
 impl ReportConfig {
     /// The `--quick` preset: every fabric, fewer resolutions, pairs and repetitions (under
     /// two minutes on the 2-core development machine).
@@ -98,6 +130,7 @@ impl ReportConfig {
             thread_frame_resolutions: vec![16, 24, 48],
             grid4d_resolutions: vec![8, 12],
             paper_samples: PAPER_SAMPLES.to_vec(),
+            resonant_nodes: QUICK_RESONANT_NODES.to_vec(),
             bake_repetitions: 1,
             repeat_bakes_below_seconds: 0.0,
             speedup_layout: Layout::ThreadFrame,
@@ -123,6 +156,7 @@ impl ReportConfig {
             thread_frame_resolutions: Layout::ThreadFrame.resolution_ladder(),
             grid4d_resolutions: vec![8, 12, 16, 24],
             paper_samples: PAPER_SAMPLES.to_vec(),
+            resonant_nodes: RESONANT_NODES.to_vec(),
             bake_repetitions: 3,
             repeat_bakes_below_seconds: 20.0,
             speedup_layout: Layout::ThreadFrame,
@@ -148,6 +182,36 @@ pub struct PaperPoint {
     pub samples: u32,
     pub error: TableError,
     pub timing: EvalTiming,
+}
+
+/// Mean kernel evaluations per light of the resonant quadrature: the tangent samples whose
+/// terms both threads computed for one (wi, wo), averaged over a validation set.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct EvaluationsPerLight {
+    pub uniform: f64,
+    pub highlight: f64,
+    /// The most any one pair of either set took.
+    pub max: usize,
+}
+
+/// Errors and cost of the resonant quadrature at one set of node counts.
+#[derive(Clone, Debug, Serialize)]
+pub struct ResonantPoint {
+    pub nodes: ResonantNodes,
+    /// `nodes` as the command line spells them, "surface/volume/base".
+    pub label: String,
+    /// Whether these are [`ResonantNodes::DEFAULT`].
+    pub default: bool,
+    pub error: TableError,
+    pub timing: EvalTiming,
+    /// Kernel evaluations per light on the error sets (uniform and highlight pairs).
+    pub evaluations_per_light: EvaluationsPerLight,
+    /// The cheapest paper-mode point with an error at most this point's (None: no measured
+    /// N is that accurate).
+    pub paper_equal_error: Option<PaperMatch>,
+    /// This point's cost over that paper-mode point's: below 1, the resonant quadrature is
+    /// cheaper at equal error.
+    pub cost_ratio_to_paper: Option<f64>,
 }
 
 /// One baked table: its size, errors, CPU lookup cost and bake time.
@@ -207,6 +271,34 @@ pub struct Verdict {
     /// Then (by the choice of the two points above) the table is faster at equal error and
     /// more accurate at equal cost; otherwise paper mode dominates it.
     pub table_wins: bool,
+    /// The same comparison against every evaluation of the model measured: paper mode at
+    /// each N and the resonant quadrature at each node count.
+    pub vs_best_evaluation: BestVerdict,
+}
+
+/// An evaluation of the model (paper mode or resonant) a table is compared with.
+#[derive(Clone, Debug, Serialize)]
+pub struct EvaluationMatch {
+    /// "paper N = 32" or "resonant 7/5/3".
+    pub evaluation: String,
+    pub ns_per_eval: f64,
+    pub error: f64,
+}
+
+/// How a table compares with the best evaluation of the model (paper mode or resonant):
+/// the fields of [`Verdict`] over both families together.
+#[derive(Clone, Debug, Serialize)]
+pub struct BestVerdict {
+    /// The cheapest evaluation with an error at most the table's.
+    pub equal_error: Option<EvaluationMatch>,
+    /// Its cost over the table's: above 1, the table is faster at equal error.
+    pub speed_ratio: Option<f64>,
+    /// The most accurate evaluation costing at most the table's cost.
+    pub equal_cost: Option<EvaluationMatch>,
+    /// Its error over the table's: above 1, the table is more accurate at equal cost.
+    pub error_ratio: Option<f64>,
+    /// True when no evaluation is both at least as accurate and at least as cheap.
+    pub table_wins: bool,
 }
 
 /// Everything measured for one fabric.
@@ -216,6 +308,8 @@ pub struct FabricReport {
     /// The direct evaluation's cost (its error is 0 by definition).
     pub direct: EvalTiming,
     pub paper: Vec<PaperPoint>,
+    /// The resonant quadrature at each node count of the configuration.
+    pub resonant: Vec<ResonantPoint>,
     pub tables: Vec<TablePoint>,
     pub speedup: Speedup,
     pub verdicts: Vec<Verdict>,
@@ -299,8 +393,9 @@ pub fn compare_with_paper(
     (equal_error, equal_cost, dominated)
 }
 
-/// Compares one table with the paper-mode points (see [`Verdict`]).
-pub fn verdict(table: &TablePoint, paper: &[PaperPoint]) -> Verdict {
+/// Compares one table with the paper-mode points and with every evaluation, paper mode and
+/// resonant (see [`Verdict`]).
+pub fn verdict(table: &TablePoint, paper: &[PaperPoint], resonant: &[ResonantPoint]) -> Verdict {
     let error = worst(&table.error);
     let cost = table.lookup.ns_per_eval;
     let points: Vec<(f64, f64)> = paper
@@ -315,6 +410,34 @@ pub fn verdict(table: &TablePoint, paper: &[PaperPoint]) -> Verdict {
     };
     let equal_error = equal_error.map(point);
     let equal_cost = equal_cost.map(point);
+    let evaluations: Vec<EvaluationMatch> = paper
+        .iter()
+        .zip(&points)
+        .map(|(p, &(ns_per_eval, error))| EvaluationMatch {
+            evaluation: format!("paper N = {}", p.samples),
+            ns_per_eval,
+            error,
+        })
+        .chain(resonant.iter().map(|r| EvaluationMatch {
+            evaluation: format!("resonant {}", r.label),
+            ns_per_eval: r.timing.ns_per_eval,
+            error: worst(&r.error),
+        }))
+        .collect();
+    let all: Vec<(f64, f64)> = evaluations
+        .iter()
+        .map(|e| (e.ns_per_eval, e.error))
+        .collect();
+    let (best_error, best_cost, best_dominated) = compare_with_paper(error, cost, &all);
+    let best_error = best_error.map(|i| evaluations[i].clone());
+    let best_cost = best_cost.map(|i| evaluations[i].clone());
+    let vs_best_evaluation = BestVerdict {
+        speed_ratio: best_error.as_ref().map(|e| e.ns_per_eval / cost),
+        error_ratio: best_cost.as_ref().map(|e| e.error / error),
+        equal_error: best_error,
+        equal_cost: best_cost,
+        table_wins: !best_dominated,
+    };
     Verdict {
         layout: table.layout,
         resolution: table.resolution,
@@ -325,7 +448,28 @@ pub fn verdict(table: &TablePoint, paper: &[PaperPoint]) -> Verdict {
         equal_error,
         equal_cost,
         table_wins: !dominated,
+        vs_best_evaluation,
     }
+}
+
+/// Mean and largest kernel evaluations per light of the resonant quadrature at `nodes` over
+/// `pairs`: the tangent samples both threads evaluate.
+fn evaluations_per_light(
+    fabric: &Fabric,
+    nodes: ResonantNodes,
+    pairs: &[(DVec3, DVec3)],
+) -> (f64, usize) {
+    let threads = [0, 1].map(|j| ThreadModel::new(fabric, j, Integration::Resonant(nodes)));
+    let (mut total, mut max) = (0usize, 0usize);
+    for &(wi, wo) in pairs {
+        let count: usize = threads
+            .iter()
+            .map(|t| t.resonant_means(wi, wo).map_or(0, |(_, cost)| cost.samples))
+            .sum();
+        total += count;
+        max = max.max(count);
+    }
+    (total as f64 / pairs.len().max(1) as f64, max)
 }
 
 /// Whether two tables hold bit-identical texels.
@@ -379,6 +523,33 @@ fn measure_fabric(
             (n, patch, error)
         })
         .collect();
+    let uniform_set = uniform_pairs(config.error_pairs, crate::accuracy::UNIFORM_SEED);
+    let highlight_set =
+        highlight_pairs(fabric, config.error_pairs, crate::accuracy::HIGHLIGHT_SEED);
+    let resonants: Vec<(ResonantNodes, Patch, TableError, EvaluationsPerLight)> = config
+        .resonant_nodes
+        .iter()
+        .map(|&nodes| {
+            let patch = Patch::new(fabric, Integration::Resonant(nodes));
+            let error = bake_pool.install(|| reference.measure(|wi, wo| patch.eval(wi, wo)));
+            let (uniform, max_uniform) = evaluations_per_light(fabric, nodes, &uniform_set);
+            let (highlight, max_highlight) = evaluations_per_light(fabric, nodes, &highlight_set);
+            let evaluations = EvaluationsPerLight {
+                uniform,
+                highlight,
+                max: max_uniform.max(max_highlight),
+            };
+            progress(&format!(
+                "{name}: resonant {nodes}: {:.3}% uniform, {:.3}% highlight, {:.1} uniform and \
+                 {:.1} highlight kernel evaluations per light",
+                100.0 * error.uniform.relative_rms,
+                100.0 * error.highlight.relative_rms,
+                uniform,
+                highlight,
+            ));
+            (nodes, patch, error, evaluations)
+        })
+        .collect();
     let mut tables: Vec<(Table, TableError, BakeTiming)> = Vec::new();
     for layout in [Layout::ThreadFrame, Layout::Grid4d] {
         for &resolution in config.resolutions(layout) {
@@ -409,12 +580,17 @@ fn measure_fabric(
         .iter()
         .map(|(_, patch, _)| Box::new(move |wi, wo| patch.eval(wi, wo)) as Box<_>)
         .collect();
+    let resonant_evals: Vec<Box<dyn Fn(DVec3, DVec3) -> DVec3 + '_>> = resonants
+        .iter()
+        .map(|(_, patch, _, _)| Box::new(move |wi, wo| patch.eval(wi, wo)) as Box<_>)
+        .collect();
     let table_evals: Vec<Box<dyn Fn(DVec3, DVec3) -> DVec3 + '_>> = tables
         .iter()
         .map(|(table, _, _)| Box::new(move |wi, wo| table.lookup(wi, wo)) as Box<_>)
         .collect();
     let evals: Vec<timing::Eval> = std::iter::once(&direct_eval as timing::Eval)
         .chain(paper_evals.iter().map(|e| &**e as timing::Eval))
+        .chain(resonant_evals.iter().map(|e| &**e as timing::Eval))
         .chain(table_evals.iter().map(|e| &**e as timing::Eval))
         .collect();
     progress(&format!(
@@ -440,6 +616,35 @@ fn measure_fabric(
             timing,
         })
         .collect();
+    let paper_points: Vec<(f64, f64)> = paper
+        .iter()
+        .map(|p| (p.timing.ns_per_eval, worst(&p.error)))
+        .collect();
+    let resonant: Vec<ResonantPoint> = resonants
+        .iter()
+        .zip(timings.by_ref())
+        .map(|((nodes, _, error, evaluations), timing)| {
+            let (equal_error, _, _) =
+                compare_with_paper(worst(error), timing.ns_per_eval, &paper_points);
+            let paper_equal_error = equal_error.map(|i| PaperMatch {
+                samples: paper[i].samples,
+                ns_per_eval: paper_points[i].0,
+                error: paper_points[i].1,
+            });
+            ResonantPoint {
+                nodes: *nodes,
+                label: nodes.to_string(),
+                default: *nodes == ResonantNodes::DEFAULT,
+                error: *error,
+                cost_ratio_to_paper: paper_equal_error
+                    .as_ref()
+                    .map(|p| timing.ns_per_eval / p.ns_per_eval),
+                paper_equal_error,
+                evaluations_per_light: *evaluations,
+                timing,
+            }
+        })
+        .collect();
     let tables: Vec<TablePoint> = tables
         .iter()
         .zip(timings)
@@ -458,6 +663,11 @@ fn measure_fabric(
             paper
                 .iter()
                 .map(|p| cost(format!("N={}", p.samples), p.timing.ns_per_eval)),
+        )
+        .chain(
+            resonant
+                .iter()
+                .map(|r| cost(format!("resonant {}", r.label), r.timing.ns_per_eval)),
         )
         .chain(tables.iter().map(|t| {
             cost(
@@ -482,11 +692,15 @@ fn measure_fabric(
             ", TEXELS DIFFER"
         }
     ));
-    let verdicts = tables.iter().map(|t| verdict(t, &paper)).collect();
+    let verdicts = tables
+        .iter()
+        .map(|t| verdict(t, &paper, &resonant))
+        .collect();
     Ok(FabricReport {
         name: name.clone(),
         direct,
         paper,
+        resonant,
         tables,
         speedup,
         verdicts,
@@ -575,6 +789,14 @@ pub fn run(
 ) -> Result<Report, ReportError> {
     if config.fabrics.is_empty() {
         return Err(ReportError::Config("no fabrics to report on".into()));
+    }
+    if let Some(Err(e)) = config
+        .resonant_nodes
+        .iter()
+        .map(ResonantNodes::validate)
+        .find(Result::is_err)
+    {
+        return Err(ReportError::Config(e));
     }
     for layout in Layout::ALL {
         if let Some(&r) = config

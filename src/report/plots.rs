@@ -24,6 +24,7 @@ const PANEL: (u32, u32) = (560, 420);
 const THREAD_FRAME_COLOUR: RGBColor = RGBColor(31, 119, 180);
 const GRID4D_COLOUR: RGBColor = RGBColor(214, 39, 40);
 const PAPER_COLOUR: RGBColor = RGBColor(44, 160, 44);
+const RESONANT_COLOUR: RGBColor = RGBColor(148, 103, 189);
 const DIRECT_COLOUR: RGBColor = RGBColor(90, 90, 90);
 const LIGHT_LINE: RGBColor = RGBColor(245, 245, 245);
 const FABRIC_COLOURS: [RGBColor; 8] = [
@@ -280,6 +281,18 @@ macro_rules! paper_label {
     };
 }
 
+/// The label "S/V/B" of a resonant point at `at`, under its marker.
+macro_rules! resonant_label {
+    ($label:expr, $at:expr) => {
+        EmptyElement::at($at)
+            + Text::new(
+                $label.to_string(),
+                (-12, 7),
+                (FONT, 12).into_font().color(&RESONANT_COLOUR),
+            )
+    };
+}
+
 /// Picks one error figure of a table.
 type ErrorOf = fn(&super::TablePoint) -> f64;
 
@@ -349,7 +362,8 @@ fn error_vs_size(report: &Report, path: &Path) -> PlotResult {
 }
 
 /// Error (worse of uniform and highlight) against CPU ns per evaluation: paper mode by N,
-/// each layout by resolution, and the direct evaluation's cost as a vertical line.
+/// the resonant quadrature by node counts, each layout by resolution, and the direct
+/// evaluation's cost as a vertical line.
 fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
     let size = grid_size(report.fabrics.len());
     write_png(path, size, |root| {
@@ -362,6 +376,7 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                 f.paper
                     .iter()
                     .map(|p| p.timing.ns_per_eval)
+                    .chain(f.resonant.iter().map(|r| r.timing.ns_per_eval))
                     .chain(f.tables.iter().map(|t| t.lookup.ns_per_eval))
                     .chain([f.direct.ns_per_eval]),
             );
@@ -369,6 +384,7 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                 f.paper
                     .iter()
                     .map(|p| worst(&p.error))
+                    .chain(f.resonant.iter().map(|r| worst(&r.error)))
                     .chain(f.tables.iter().map(|t| worst(&t.error))),
             );
             let (y0, y1) = (ys.start, ys.end);
@@ -400,6 +416,23 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                 f.paper
                     .iter()
                     .map(|p| paper_label!(p.samples, lg2((p.timing.ns_per_eval, worst(&p.error))))),
+            )?;
+            let resonant: Vec<(f64, f64)> = f
+                .resonant
+                .iter()
+                .map(|r| lg2((r.timing.ns_per_eval, worst(&r.error))))
+                .collect();
+            curve(
+                &mut chart,
+                &resonant,
+                RESONANT_COLOUR,
+                Marker::Cross,
+                (k == 0).then_some("resonant (surface/volume/base)"),
+            )?;
+            chart.draw_series(
+                f.resonant.iter().map(|r| {
+                    resonant_label!(r.label, lg2((r.timing.ns_per_eval, worst(&r.error))))
+                }),
             )?;
             for layout in [Layout::ThreadFrame, Layout::Grid4d] {
                 let points: Vec<(f64, f64)> = f
