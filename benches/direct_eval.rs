@@ -1,5 +1,6 @@
 //! Nanoseconds per evaluation of F(wi, wo) for each built-in fabric: the converged direct
-//! evaluation, paper mode at N = 8 and 32 samples per thread, and the CPU lookup of each
+//! evaluation, paper mode at N = 8 and 32 samples per thread, the resonant quadrature at its
+//! default node counts (`resonant_default`, 7/5/3), and the CPU lookup of each
 //! layout's default table (baked at the layout's default resolution during setup):
 //! `table_lookup` is thread_frame, `table_lookup_grid4d` grid4d.
 //!
@@ -9,7 +10,7 @@
 
 use clothbake::bake::bake;
 use clothbake::fabric_file::FabricSet;
-use clothbake::model::{Integration, Patch};
+use clothbake::model::{Integration, Patch, ResonantNodes};
 use clothbake::table::Layout;
 use criterion::{
     BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group,
@@ -64,6 +65,10 @@ fn bench_direct_eval(c: &mut Criterion) {
             ("direct", Integration::Direct),
             ("paper_n8", Integration::Paper(8)),
             ("paper_n32", Integration::Paper(32)),
+            (
+                "resonant_default",
+                Integration::Resonant(ResonantNodes::DEFAULT),
+            ),
         ] {
             let patch = Patch::new(fabric, integration);
             group.bench_function(BenchmarkId::new(label, &fabric.name), |b| {
