@@ -140,13 +140,22 @@ enum Command {
         /// Tangent samples per thread of --shader direct (default 32).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
         samples: Option<u32>,
+        /// --shader resonant: Gauss–Legendre nodes per segment on the surface lobe (default 7).
+        #[arg(long, value_parser = resonant_count)]
+        surface_nodes: Option<u32>,
+        /// --shader resonant: nodes per segment on the volume lobe (default 5).
+        #[arg(long, value_parser = resonant_count)]
+        volume_nodes: Option<u32>,
+        /// --shader resonant: nodes per segment for ⟨P⟩ and the kd term (default 3).
+        #[arg(long, value_parser = resonant_count)]
+        base_nodes: Option<u32>,
         /// Also render the view on the CPU by direct evaluation: writes STEM-reference.png and
         /// STEM-error.png and prints the image error.
         #[arg(long)]
         reference: bool,
     },
     /// Open an interactive window showing the scene's cloth shaded by table lookup (or by the
-    /// direct shader: key D). Keys are listed at start.
+    /// direct shader: key D; the resonant shader: key G). Keys are listed at start.
     View {
         #[command(flatten)]
         scene: SceneArgs,
@@ -160,7 +169,8 @@ enum Command {
         #[arg(long, default_value_t = clothbake::gpu::direct::DEFAULT_SAMPLES,
               value_parser = clap::value_parser!(u32).range(1..=1024))]
         samples: u32,
-        /// Shading at start: table lookup, or the model in the shader (key D toggles).
+        /// Shading at start: table lookup, the model in the shader (key D toggles), or the
+        /// resonant quadrature in the shader (key G toggles).
         #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
         shader: ShaderArg,
     },
@@ -194,6 +204,7 @@ impl SceneArgs {
 enum ShaderArg {
     Lookup,
     Direct,
+    Resonant,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -202,6 +213,8 @@ enum RenderShaderArg {
     Lookup,
     /// The model itself in the shader (paper mode, --samples per thread).
     Direct,
+    /// The resonant quadrature in the shader (--surface-nodes, --volume-nodes, --base-nodes).
+    Resonant,
     /// F = 1/π: the frame's cost without BRDF work, the floor under any shader's time.
     Constant,
 }
@@ -430,13 +443,33 @@ fn run(cli: Cli) -> Result<(), String> {
             frames,
             shader,
             samples,
+            surface_nodes,
+            volume_nodes,
+            base_nodes,
             reference,
         } => {
+            let nodes = [surface_nodes, volume_nodes, base_nodes];
+            if shader != RenderShaderArg::Resonant && nodes.iter().any(Option::is_some) {
+                return Err(
+                    "--surface-nodes, --volume-nodes and --base-nodes apply to --shader resonant"
+                        .into(),
+                );
+            }
             let shader = match (shader, samples) {
                 (RenderShaderArg::Direct, n) => render::job::Shader::Direct {
                     samples: n.unwrap_or(clothbake::gpu::direct::DEFAULT_SAMPLES),
                 },
                 (_, Some(_)) => return Err("--samples applies to --shader direct only".into()),
+                (RenderShaderArg::Resonant, None) => {
+                    let d = ResonantNodes::DEFAULT;
+                    render::job::Shader::Resonant {
+                        nodes: ResonantNodes {
+                            surface: surface_nodes.unwrap_or(d.surface),
+                            volume: volume_nodes.unwrap_or(d.volume),
+                            base: base_nodes.unwrap_or(d.base),
+                        },
+                    }
+                }
                 (RenderShaderArg::Lookup, None) => render::job::Shader::Lookup,
                 (RenderShaderArg::Constant, None) => render::job::Shader::Constant,
             };
@@ -468,6 +501,7 @@ fn run(cli: Cli) -> Result<(), String> {
             frames,
             samples,
             direct: matches!(shader, ShaderArg::Direct),
+            resonant: matches!(shader, ShaderArg::Resonant),
         }),
         Command::Report { quick, out } => {
             let fabrics = FabricSet::builtin().fabrics().to_vec();

@@ -1,13 +1,13 @@
-//! The `render` command: each fabric of a scene rendered headless with the table lookup or
-//! the direct shader, written as PNG with its median GPU time per frame; optionally the CPU
-//! reference of the same view, an error heat map and the image error.
+//! The `render` command: each fabric of a scene rendered headless with the table lookup, the
+//! direct shader or the resonant shader, written as PNG with its median GPU time per frame;
+//! optionally the CPU reference of the same view, an error heat map and the image error.
 
 use super::image::{HEATMAP_LOG10_RANGE, ImageError, error_heatmap, image_error, write_png};
 use super::mesh::Mesh;
 use super::{FrameSettings, Headless, RenderOutput, reference};
 use crate::fabric_file::FabricSet;
-use crate::gpu::{GpuBrdf, GpuConstant, GpuContext, GpuDirect, GpuTable};
-use crate::model::{Fabric, Integration, Patch};
+use crate::gpu::{GpuBrdf, GpuConstant, GpuContext, GpuDirect, GpuResonant, GpuTable};
+use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::scene::Scene;
 use crate::table_file::{TableFile, read_table};
 use std::path::{Path, PathBuf};
@@ -20,6 +20,9 @@ pub enum Shader {
     Lookup,
     /// The model in the shader, paper mode with this many tangent samples per thread.
     Direct { samples: u32 },
+    /// The resonant quadrature in the shader ([`crate::gpu::GpuResonant`]) with these node
+    /// counts per segment.
+    Resonant { nodes: ResonantNodes },
     /// F = 1/π ([`crate::gpu::GpuConstant`]): the frame's cost without BRDF work.
     Constant,
 }
@@ -129,7 +132,9 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             .iter()
             .map(|f| load_table(&job.tables, f).map(Some))
             .collect::<Result<Vec<_>, _>>()?,
-        Shader::Direct { .. } | Shader::Constant => vec![None; fabrics.len()],
+        Shader::Direct { .. } | Shader::Resonant { .. } | Shader::Constant => {
+            vec![None; fabrics.len()]
+        }
     };
     let mut settings = FrameSettings::from_scene(&job.scene);
     let mesh = match &job.mesh {
@@ -163,6 +168,9 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             }
             (Shader::Direct { samples }, _) => {
                 Box::new(GpuDirect::new(&context, fabric, samples).map_err(|e| e.to_string())?)
+            }
+            (Shader::Resonant { nodes }, _) => {
+                Box::new(GpuResonant::new(&context, fabric, nodes).map_err(|e| e.to_string())?)
             }
             (Shader::Constant, _) => Box::new(GpuConstant::new(&context)),
             (Shader::Lookup, None) => unreachable!("tables are loaded for the lookup"),

@@ -8,8 +8,8 @@ use super::controls::{
 };
 use super::timer::GpuTimer;
 use super::{ViewError, ViewSummary};
-use crate::gpu::{GpuContext, GpuDirect, GpuTable};
-use crate::model::Fabric;
+use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuTable};
+use crate::model::{Fabric, ResonantNodes};
 use crate::render::job::load_table;
 use crate::render::mesh::Mesh;
 use crate::render::{Camera, DEPTH_FORMAT, FrameSettings, FrameTargets, LightSource, Renderer};
@@ -41,6 +41,8 @@ pub(super) struct Setup {
     pub samples: u32,
     /// Start with the direct shader.
     pub direct: bool,
+    /// Start with the resonant shader (unless `direct`).
+    pub resonant: bool,
 }
 
 /// How the cloth is shaded.
@@ -48,6 +50,8 @@ pub(super) struct Setup {
 enum Shading {
     Lookup,
     Direct,
+    /// The resonant quadrature in the shader, default node counts.
+    Resonant,
 }
 
 /// Runs the event loop until the window closes; `table` is the first fabric's.
@@ -118,6 +122,8 @@ struct FabricGpu {
     lookup: GpuTable,
     /// The direct shader and its samples per thread.
     direct: Option<(u32, GpuDirect)>,
+    /// The resonant shader (default nodes), once asked for.
+    resonant: Option<GpuResonant>,
 }
 
 /// The window and everything drawn into it.
@@ -168,6 +174,7 @@ impl App {
         match self.shading {
             Shading::Lookup => "table lookup".to_string(),
             Shading::Direct => format!("direct shader N={}", self.samples),
+            Shading::Resonant => format!("resonant shader nodes {}", ResonantNodes::DEFAULT),
         }
     }
 
@@ -209,6 +216,7 @@ impl App {
         let first = FabricGpu {
             lookup: GpuTable::new(&gpu, &table.table)?,
             direct: None,
+            resonant: None,
         };
         drop(table);
         let renderer = Renderer::new(&gpu, config.format, false, &self.setup.mesh, &first.lookup)?;
@@ -244,6 +252,7 @@ impl App {
             g.fabrics[index] = Some(FabricGpu {
                 lookup,
                 direct: None,
+                resonant: None,
             });
         }
         let Some(f) = &mut g.fabrics[index] else {
@@ -264,6 +273,19 @@ impl App {
                     g.renderer
                         .set_brdf(&g.gpu, direct)
                         .map_err(|e| format!("direct shader unavailable: {e}"))?;
+                }
+            }
+            Shading::Resonant => {
+                if f.resonant.is_none() {
+                    let fabric = &self.setup.fabrics[index];
+                    let resonant = GpuResonant::new(&g.gpu, fabric, ResonantNodes::DEFAULT)
+                        .map_err(|e| format!("resonant shader unavailable: {e}"))?;
+                    f.resonant = Some(resonant);
+                }
+                if let Some(resonant) = &f.resonant {
+                    g.renderer
+                        .set_brdf(&g.gpu, resonant)
+                        .map_err(|e| format!("resonant shader unavailable: {e}"))?;
                 }
             }
         }
@@ -319,8 +341,15 @@ impl App {
             Action::ToggleLightSpin => self.light.spinning = !self.light.spinning,
             Action::ToggleDirect => {
                 let next = match shading {
-                    Shading::Lookup => Shading::Direct,
                     Shading::Direct => Shading::Lookup,
+                    Shading::Lookup | Shading::Resonant => Shading::Direct,
+                };
+                self.show_or_report(index, next, samples);
+            }
+            Action::ToggleResonant => {
+                let next = match shading {
+                    Shading::Resonant => Shading::Lookup,
+                    Shading::Lookup | Shading::Direct => Shading::Resonant,
                 };
                 self.show_or_report(index, next, samples);
             }
@@ -584,9 +613,14 @@ impl ApplicationHandler for App {
                 graphics.window.request_redraw();
                 let label = graphics.renderer.brdf_label().to_string();
                 self.graphics = Some(graphics);
-                if self.setup.direct {
+                if self.setup.direct || self.setup.resonant {
                     // Asked for on the command line: failing to build it is an error.
-                    if let Err(message) = self.show(self.current, Shading::Direct, self.samples) {
+                    let shading = if self.setup.direct {
+                        Shading::Direct
+                    } else {
+                        Shading::Resonant
+                    };
+                    if let Err(message) = self.show(self.current, shading, self.samples) {
                         self.fail(event_loop, ViewError::Render(message));
                     }
                 } else {

@@ -34,7 +34,8 @@ pub const MAX_SAMPLES: u32 = 1024;
 pub const KEY_HELP: &str = "\
 keys: left-drag orbit, wheel zoom, Tab / Shift+Tab next / previous fabric, 1-9 fabric,
       Left/Right/Up/Down move the light, L spin the light, D lookup / direct shading,
-      + / - direct shader samples (x2 / /2), R reset view, Esc or Q quit";
+      G lookup / resonant shading, + / - direct shader samples (x2 / /2), R reset view,
+      Esc or Q quit";
 
 /// What a key press asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,6 +52,8 @@ pub enum Action {
     },
     ToggleLightSpin,
     ToggleDirect,
+    /// Switch between the table lookup and the resonant shader (`GpuResonant`).
+    ToggleResonant,
     /// Double (`true`) or halve the direct shader's samples.
     Samples(bool),
     ResetView,
@@ -90,6 +93,7 @@ pub fn action_for_key(key: &Key, shift: bool) -> Option<Action> {
                 'q' => Some(Action::Quit),
                 'l' => Some(Action::ToggleLightSpin),
                 'd' => Some(Action::ToggleDirect),
+                'g' => Some(Action::ToggleResonant),
                 'r' => Some(Action::ResetView),
                 // `=` is `+` without Shift on US layouts.
                 '+' | '=' => Some(Action::Samples(true)),
@@ -365,6 +369,7 @@ mod tests {
         );
         assert_eq!(action_for_key(&ch("0"), false), None);
         assert_eq!(action_for_key(&ch("d"), false), Some(Action::ToggleDirect));
+        assert_eq!(action_for_key(&ch("G"), true), Some(Action::ToggleResonant));
         assert_eq!(
             action_for_key(&ch("l"), false),
             Some(Action::ToggleLightSpin)

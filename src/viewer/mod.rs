@@ -47,6 +47,9 @@ pub struct ViewOptions {
     pub samples: u32,
     /// Start with the direct shader instead of the table lookup.
     pub direct: bool,
+    /// Start with the resonant shader ([`crate::gpu::GpuResonant`], default nodes) instead
+    /// of the table lookup (ignored when `direct` is set).
+    pub resonant: bool,
 }
 
 /// What a viewing session measured.
@@ -166,6 +169,7 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
             frames: options.frames,
             samples: options.samples,
             direct: options.direct,
+            resonant: options.resonant,
         },
         table,
     )
@@ -227,6 +231,7 @@ mod tests {
             frames: Some(1),
             samples: DEFAULT_SAMPLES,
             direct: false,
+            resonant: false,
         };
         let e = run(options.clone()).unwrap_err().to_string();
         assert!(
