@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# GPU cost of the lookup shader against the direct (paper-mode) shader at 1024×1024, every
-# built-in fabric, on whatever adapter wgpu finds: the median ms per frame that
-# `clothbake render` prints for --shader constant (F = 1/π: the frame without BRDF work, the
-# floor under every shader), lookup, and direct at N = 8 and 32, in one run. A shared
-# machine's speed drifts over minutes, so the four renders of a fabric alternate, ROUNDS
+# GPU cost of the lookup shader against the direct (paper-mode) shader and the resonant
+# shader at 1024×1024, every built-in fabric (or those named in FABRICS, space separated),
+# on whatever adapter wgpu finds: the median ms per frame that `clothbake render` prints for
+# --shader constant (F = 1/π: the frame without BRDF work, the floor under every shader),
+# lookup, direct at N = 8 and 32, and resonant (default nodes 7/5/3), in one run. A shared
+# machine's speed drifts over minutes, so the five renders of a fabric alternate, ROUNDS
 # times (default 3), and each figure is the median of its rounds' medians of FRAMES frames
 # (default 5). Ratios: whole frames, and BRDF work alone (frame − floor).
 # Needs the default tables (clothbake bake). Prints a Markdown table.
@@ -12,7 +13,7 @@ cd "$(dirname "$0")/.."
 bin=target/release/clothbake
 frames=${FRAMES:-5}
 rounds=${ROUNDS:-3}
-fabrics=$("$bin" fabrics | awk '/^[a-z]/ {print $1}')
+fabrics=${FABRICS:-$("$bin" fabrics | awk '/^[a-z]/ {print $1}')}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 
@@ -24,8 +25,8 @@ median_ms() { # the ms figure of the render command's "median X ms per frame" li
 "$bin" render --width 64 --height 64 --frames 1 --out "$out/probe.png" \
     --fabric "$(echo "$fabrics" | head -1)" | grep '^adapter'
 echo
-echo "| fabric | floor ms | lookup ms | direct N = 8 ms | direct N = 32 ms | N = 8 / lookup | N = 32 / lookup | BRDF work: N = 32 / lookup |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|"
+echo "| fabric | floor ms | lookup ms | direct N = 8 ms | direct N = 32 ms | resonant ms | N = 8 / lookup | N = 32 / lookup | resonant / lookup | BRDF work: N = 32 / lookup | BRDF work: resonant / lookup |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 
 for fabric in $fabrics; do
@@ -35,12 +36,14 @@ for fabric in $fabrics; do
         ms[lookup]+="$(median_ms --fabric "$fabric") "
         ms[n8]+="$(median_ms --fabric "$fabric" --shader direct --samples 8) "
         ms[n32]+="$(median_ms --fabric "$fabric" --shader direct --samples 32) "
+        ms[resonant]+="$(median_ms --fabric "$fabric" --shader resonant) "
     done
-    for key in floor lookup n8 n32; do
+    for key in floor lookup n8 n32 resonant; do
         ms[$key]=$(tr ' ' '\n' <<<"${ms[$key]}" | grep . | median)
     done
-    awk -v f="$fabric" -v z="${ms[floor]}" -v l="${ms[lookup]}" -v a="${ms[n8]}" -v b="${ms[n32]}" 'BEGIN {
-        printf "| %s | %.0f | %.0f | %.0f | %.0f | %.2f× | %.2f× | %.2f× |\n",
-            f, z, l, a, b, a / l, b / l, (b - z) / (l - z) }'
+    awk -v f="$fabric" -v z="${ms[floor]}" -v l="${ms[lookup]}" -v a="${ms[n8]}" -v b="${ms[n32]}" \
+        -v r="${ms[resonant]}" 'BEGIN {
+        printf "| %s | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f× | %.2f× | %.2f× | %.2f× | %.2f× |\n",
+            f, z, l, a, b, r, a / l, b / l, r / l, (b - z) / (l - z), (r - z) / (l - z) }'
     unset ms
 done
