@@ -23,7 +23,7 @@ median_ms() { # the ms figure of the render command's "median X ms per frame" li
 }
 
 "$bin" render --width 64 --height 64 --frames 1 --out "$out/probe.png" \
-    --fabric "$(echo "$fabrics" | head -1)" | grep '^adapter'
+    --fabric "$(awk '{print $1}' <<<"${fabrics//$'\n'/ }")" | grep '^adapter'
 echo
 echo "| fabric | floor ms | lookup ms | direct N = 8 ms | direct N = 32 ms | resonant ms | N = 8 / lookup | N = 32 / lookup | resonant / lookup | BRDF work: N = 32 / lookup | BRDF work: resonant / lookup |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
