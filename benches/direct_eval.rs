@@ -1,6 +1,6 @@
 //! Nanoseconds per evaluation of F(wi, wo) for each built-in fabric: the converged direct
 //! evaluation, paper mode at N = 8 and 32 samples per thread, the resonant quadrature at its
-//! default node counts (`resonant_default`, 7/5/3), and the CPU lookup of each
+//! default node counts (`resonant_default`, `ResonantNodes::DEFAULT`), and the CPU lookup of each
 //! layout's default table (baked at the layout's default resolution during setup):
 //! `table_lookup` is thread_frame, `table_lookup_grid4d` grid4d.
 //!

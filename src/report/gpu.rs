@@ -168,7 +168,11 @@ fn measure_on(
         let name = &fabric.name;
         let mut brdfs: Vec<(Option<u32>, Box<dyn GpuBrdf>)> =
             vec![(None, Box::new(GpuTable::new(context, table).map_err(text)?))];
-        for &n in &config.paper_samples {
+        for &n in config
+            .paper_samples
+            .iter()
+            .filter(|&&n| n <= super::GPU_PAPER_MAX_SAMPLES)
+        {
             brdfs.push((
                 Some(n),
                 Box::new(GpuDirect::new(context, fabric, n).map_err(text)?),

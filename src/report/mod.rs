@@ -90,18 +90,26 @@ pub struct ReportConfig {
     pub gpu_frames: usize,
 }
 
-/// Paper-mode sample counts the report compares against.
-pub const PAPER_SAMPLES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
+/// Paper-mode sample counts the full report compares against on the CPU: up to 1024, where
+/// paper mode reaches the resonant quadrature's 0.03–0.2% (satin back needs N = 1024).
+pub const PAPER_SAMPLES: [u32; 11] = [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024];
 
-/// Resonant node counts of the full report, cheapest first; 7/5/3 is
+/// Paper-mode sample counts of `--quick`.
+pub const QUICK_PAPER_SAMPLES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
+
+/// Largest paper-mode N rendered in the GPU section: beyond it a frame on a software
+/// rasteriser takes seconds.
+pub const GPU_PAPER_MAX_SAMPLES: u32 = 64;
+
+/// Resonant node counts of the full report, cheapest first; 6/4/2 is
 /// [`ResonantNodes::DEFAULT`].
 pub const RESONANT_NODES: [ResonantNodes; 6] = [
     nodes(3, 2, 2),
     nodes(4, 3, 2),
     nodes(5, 3, 2),
-    nodes(5, 4, 3),
     ResonantNodes::DEFAULT,
-    nodes(8, 6, 4),
+    nodes(7, 5, 3),
+    nodes(10, 8, 4),
 ];
 
 /// Resonant node counts of `--quick`: a coarse, a middle and the default point.
@@ -129,7 +137,7 @@ impl ReportConfig {
             min_sample_seconds: 0.01,
             thread_frame_resolutions: vec![16, 24, 48],
             grid4d_resolutions: vec![8, 12],
-            paper_samples: PAPER_SAMPLES.to_vec(),
+            paper_samples: QUICK_PAPER_SAMPLES.to_vec(),
             resonant_nodes: QUICK_RESONANT_NODES.to_vec(),
             bake_repetitions: 1,
             repeat_bakes_below_seconds: 0.0,
