@@ -8,6 +8,12 @@
 //! f64 by [`GaussLegendre::new`], rounded to f32), both threads' parameters, and per thread a
 //! function that visits the thread's curve pieces one by one (flat pieces as single nodes,
 //! segments by `cloth_resonant_segment`). Everything is a constant, so group 0 is empty.
+//!
+//! Status: the shader follows the CPU rule as committed in 61bf522 (one lobe rule per
+//! clipped segment, negligible beyond 6σ, half/quarter tail rules). Commit e61832b changed
+//! the CPU rule (node sets split at the kinks of the reweighted min of M and P, lobe nodes
+//! within 8σ, default nodes 6/4/2); that is not ported yet, and tests/gpu_resonant.rs, which
+//! compares with the CPU rule pair by pair, fails until it is.
 
 use super::direct::{degenerate_threshold, unit_area_gaussian};
 use super::{GpuBrdf, GpuContext, GpuError};
