@@ -1,7 +1,7 @@
 //! Nanoseconds per evaluation of F(wi, wo) for each built-in fabric: the converged direct
-//! evaluation, paper mode at N = 8 and 32 samples per thread, the resonant quadrature at its
-//! default node counts (`resonant_default`, `ResonantNodes::DEFAULT`), and the CPU lookup of each
-//! layout's default table (baked at the layout's default resolution during setup):
+//! evaluation, paper mode at N = 8, 32, 128 and 1024 samples per thread, the resonant
+//! quadrature at its default node counts (`resonant_default`, `ResonantNodes::DEFAULT`), and
+//! the CPU lookup of each layout's default table (baked at the layout's default resolution during setup):
 //! `table_lookup` is thread_frame, `table_lookup_grid4d` grid4d.
 //!
 //! `cargo bench --bench direct_eval`; each figure is the median time of one batch of
@@ -65,6 +65,10 @@ fn bench_direct_eval(c: &mut Criterion) {
             ("direct", Integration::Direct),
             ("paper_n8", Integration::Paper(8)),
             ("paper_n32", Integration::Paper(32)),
+            // Where paper mode reaches the resonant rule's error (0.03–0.2%): N = 128 for
+            // satin charmeuse, 1024 for satin back (report/REPORT.md).
+            ("paper_n128", Integration::Paper(128)),
+            ("paper_n1024", Integration::Paper(1024)),
             (
                 "resonant_default",
                 Integration::Resonant(ResonantNodes::DEFAULT),
