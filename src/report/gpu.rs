@@ -1,6 +1,6 @@
 //! The report's GPU section: the standard scene (tables/scene.toml, [`Scene::builtin`])
-//! rendered headless for each fabric, by the table lookup shader and by the paper-mode
-//! shader at each N, with the GPU time per frame and the image error against the CPU
+//! rendered headless for each fabric, by the table lookup shader, by the paper-mode shader at
+//! each N and by the resonant shader at each of its node counts, with the GPU time per frame and the image error against the CPU
 //! reference render (direct evaluation of the same G-buffer).
 //!
 //! Without an adapter the section says so and holds no figures; nothing is estimated in
@@ -8,8 +8,8 @@
 //! other and named as such, so its "GPU" times are read as what they are.
 
 use super::ReportConfig;
-use crate::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, GpuTable};
-use crate::model::{Integration, Patch};
+use crate::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, GpuResonant, GpuTable};
+use crate::model::{Integration, Patch, ResonantNodes};
 use crate::render::image::{LinearImage, image_error};
 use crate::render::mesh::Mesh;
 use crate::render::{FrameSettings, Headless, reference};
@@ -21,10 +21,13 @@ use std::time::Instant;
 /// One way of shading the scene: its GPU time per frame and its image error.
 #[derive(Clone, Debug, Serialize)]
 pub struct GpuPoint {
-    /// "lookup" (the table shader) or "paper" (the model evaluated in the shader).
+    /// "lookup" (the table shader), "paper" or "resonant" (the model evaluated in the shader
+    /// by paper mode or by the resonant quadrature).
     pub shader: String,
-    /// Paper-mode samples per thread for "paper"; None for "lookup".
+    /// Paper-mode samples per thread for "paper"; None otherwise.
     pub samples: Option<u32>,
+    /// Node counts for "resonant"; None otherwise.
+    pub nodes: Option<ResonantNodes>,
     /// Median milliseconds per frame.
     pub ms_per_frame: f64,
     /// Milliseconds of each timed frame (after one untimed warm-up frame).
@@ -166,21 +169,30 @@ fn measure_on(
     for table in tables {
         let fabric = &table.fabric;
         let name = &fabric.name;
-        let mut brdfs: Vec<(Option<u32>, Box<dyn GpuBrdf>)> =
-            vec![(None, Box::new(GpuTable::new(context, table).map_err(text)?))];
+        let mut brdfs: Vec<((&str, Option<u32>, Option<ResonantNodes>), Box<dyn GpuBrdf>)> =
+            vec![(
+                ("lookup", None, None),
+                Box::new(GpuTable::new(context, table).map_err(text)?),
+            )];
         for &n in config
             .paper_samples
             .iter()
             .filter(|&&n| n <= super::GPU_PAPER_MAX_SAMPLES)
         {
             brdfs.push((
-                Some(n),
+                ("paper", Some(n), None),
                 Box::new(GpuDirect::new(context, fabric, n).map_err(text)?),
+            ));
+        }
+        for &nodes in &config.gpu_resonant_nodes {
+            brdfs.push((
+                ("resonant", None, Some(nodes)),
+                Box::new(GpuResonant::new(context, fabric, nodes).map_err(text)?),
             ));
         }
         let mut reference: Option<(LinearImage, f64)> = None;
         let mut points = Vec::new();
-        for (samples, brdf) in &brdfs {
+        for ((shader, samples, nodes), brdf) in &brdfs {
             let renderer = match &mut headless {
                 Some(h) => {
                     h.renderer.set_brdf(context, brdf.as_ref()).map_err(text)?;
@@ -205,8 +217,9 @@ fn measure_on(
             source = output.timing.source.to_string();
             let error = image_error(&output.linear, reference, settings.exposure)?;
             let point = GpuPoint {
-                shader: if samples.is_some() { "paper" } else { "lookup" }.into(),
+                shader: shader.to_string(),
                 samples: *samples,
+                nodes: *nodes,
                 ms_per_frame: output.timing.median_ms(),
                 samples_ms: output.timing.frame_ms.clone(),
                 image_relative_l2: error.relative_l2,

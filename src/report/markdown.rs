@@ -703,8 +703,8 @@ fn gpu_section(report: &Report, md: &mut String) {
         md,
         "The standard scene (tables/scene.toml: the cloth draped over a sphere, a directional \
          and a point light) rendered headless at {w}×{h} for each fabric, by the lookup shader \
-         (the fabric's largest thread_frame table measured above) and by the paper-mode shader \
-         at each N. Time: median of {} frames after a warm-up frame ({}). Image error: \
+         (the fabric's largest thread_frame table measured above), by the paper-mode shader \
+         at each N and by the resonant shader. Time: median of {} frames after a warm-up frame ({}). Image error: \
          ‖render − reference‖₂/‖reference‖₂ of the linear radiance over the covered pixels, \
          against the CPU reference render (direct evaluation of the same G-buffer).\n",
         g.frames,
@@ -718,7 +718,7 @@ fn gpu_section(report: &Report, md: &mut String) {
     );
     let _ = writeln!(md, "|---|---:|---:|---|---:|---|---:|---|");
     for f in &g.fabrics {
-        let Some(lookup) = f.points.iter().find(|p| p.samples.is_none()) else {
+        let Some(lookup) = f.points.iter().find(|p| p.shader == "lookup") else {
             continue;
         };
         let paper: Vec<&super::gpu::GpuPoint> =
@@ -752,6 +752,30 @@ fn gpu_section(report: &Report, md: &mut String) {
         );
     }
     md.push('\n');
+    let _ = writeln!(
+        md,
+        "The resonant shader against the lookup (frame time ratio; image errors):\n\n\
+         | fabric | nodes | ms/frame | × lookup's frame | image error | lookup's image error |\n\
+         |---|---|---:|---:|---:|---:|"
+    );
+    for f in &g.fabrics {
+        let Some(lookup) = f.points.iter().find(|p| p.shader == "lookup") else {
+            continue;
+        };
+        for p in &f.points {
+            let Some(nodes) = p.nodes else { continue };
+            let _ = writeln!(
+                md,
+                "| {} | {nodes} | {:.2} | {:.1}× | {} | {} |",
+                f.name,
+                p.ms_per_frame,
+                p.ms_per_frame / lookup.ms_per_frame,
+                pct(p.image_relative_l2),
+                pct(lookup.image_relative_l2)
+            );
+        }
+    }
+    md.push('\n');
     let _ = writeln!(md, "Every shader:\n");
     let _ = writeln!(
         md,
@@ -760,9 +784,10 @@ fn gpu_section(report: &Report, md: &mut String) {
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|");
     for f in &g.fabrics {
         for p in &f.points {
-            let shader = match p.samples {
-                Some(n) => format!("paper N = {n}"),
-                None => format!("lookup ({})", f.table),
+            let shader = match (p.samples, p.nodes) {
+                (Some(n), _) => format!("paper N = {n}"),
+                (None, Some(nodes)) => format!("resonant {nodes}"),
+                (None, None) => format!("lookup ({})", f.table),
             };
             let _ = writeln!(
                 md,

@@ -71,6 +71,8 @@ pub struct ReportConfig {
     pub paper_samples: Vec<u32>,
     /// Node counts of the resonant quadrature measured (surface/volume/base per segment).
     pub resonant_nodes: Vec<ResonantNodes>,
+    /// Resonant node counts rendered by the resonant shader in the GPU section.
+    pub gpu_resonant_nodes: Vec<ResonantNodes>,
     /// Bakes per table whose median is the bake time.
     pub bake_repetitions: usize,
     /// A bake that takes longer than this (seconds) is not repeated: it bounds the run time
@@ -139,6 +141,7 @@ impl ReportConfig {
             grid4d_resolutions: vec![8, 12],
             paper_samples: QUICK_PAPER_SAMPLES.to_vec(),
             resonant_nodes: QUICK_RESONANT_NODES.to_vec(),
+            gpu_resonant_nodes: vec![ResonantNodes::DEFAULT],
             bake_repetitions: 1,
             repeat_bakes_below_seconds: 0.0,
             speedup_layout: Layout::ThreadFrame,
@@ -165,6 +168,7 @@ impl ReportConfig {
             grid4d_resolutions: vec![8, 12, 16, 24],
             paper_samples: PAPER_SAMPLES.to_vec(),
             resonant_nodes: RESONANT_NODES.to_vec(),
+            gpu_resonant_nodes: vec![nodes(3, 2, 2), ResonantNodes::DEFAULT],
             bake_repetitions: 3,
             repeat_bakes_below_seconds: 20.0,
             speedup_layout: Layout::ThreadFrame,
@@ -801,6 +805,7 @@ pub fn run(
     if let Some(Err(e)) = config
         .resonant_nodes
         .iter()
+        .chain(&config.gpu_resonant_nodes)
         .map(ResonantNodes::validate)
         .find(Result::is_err)
     {

@@ -515,7 +515,7 @@ fn bake_time(report: &Report, path: &Path) -> PlotResult {
 }
 
 /// GPU milliseconds per frame against the image error of the standard scene, per fabric:
-/// the paper-mode shader by N and the lookup shader.
+/// the paper-mode shader by N, the resonant shader by node counts and the lookup shader.
 fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
     let g = &report.gpu;
     let size = grid_size(g.fabrics.len());
@@ -556,10 +556,24 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
                 p.samples
                     .map(|n| paper_label!(n, lg2((p.ms_per_frame, p.image_relative_l2))))
             }))?;
+            let resonant: Vec<_> = f.points.iter().filter(|p| p.nodes.is_some()).collect();
+            let at = |p: &super::gpu::GpuPoint| lg2((p.ms_per_frame, p.image_relative_l2));
+            curve(
+                &mut chart,
+                &resonant.iter().map(|p| at(p)).collect::<Vec<_>>(),
+                RESONANT_COLOUR,
+                Marker::Cross,
+                (k == 0).then_some("resonant shader (nodes)"),
+            )?;
+            chart.draw_series(
+                resonant
+                    .iter()
+                    .filter_map(|p| p.nodes.map(|n| resonant_label!(n, at(p)))),
+            )?;
             let lookup: Vec<(f64, f64)> = f
                 .points
                 .iter()
-                .filter(|p| p.samples.is_none())
+                .filter(|p| p.shader == "lookup")
                 .map(|p| lg2((p.ms_per_frame, p.image_relative_l2)))
                 .collect();
             let label = format!("lookup shader ({})", f.table);
