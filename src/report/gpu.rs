@@ -18,6 +18,10 @@ use crate::table::Table;
 use serde::Serialize;
 use std::time::Instant;
 
+/// A shader of the GPU section: its kind ("lookup", "paper", "resonant"), paper-mode N and
+/// resonant node counts, as [`GpuPoint`] records them.
+type ShaderId = (&'static str, Option<u32>, Option<ResonantNodes>);
+
 /// One way of shading the scene: its GPU time per frame and its image error.
 #[derive(Clone, Debug, Serialize)]
 pub struct GpuPoint {
@@ -169,11 +173,10 @@ fn measure_on(
     for table in tables {
         let fabric = &table.fabric;
         let name = &fabric.name;
-        let mut brdfs: Vec<((&str, Option<u32>, Option<ResonantNodes>), Box<dyn GpuBrdf>)> =
-            vec![(
-                ("lookup", None, None),
-                Box::new(GpuTable::new(context, table).map_err(text)?),
-            )];
+        let mut brdfs: Vec<(ShaderId, Box<dyn GpuBrdf>)> = vec![(
+            ("lookup", None, None),
+            Box::new(GpuTable::new(context, table).map_err(text)?),
+        )];
         for &n in config
             .paper_samples
             .iter()
