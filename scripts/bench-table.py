@@ -23,14 +23,22 @@ def medians(group):
     return rows
 
 
-modes = ["direct", "paper_n32", "paper_n8", "table_lookup", "table_lookup_grid4d"]
-print("| fabric | " + " | ".join(f"{m} (ns/eval)" for m in modes) + " | direct / lookup |")
-print("|---|" + "---:|" * (len(modes) + 1))
+modes = ["direct", "paper_n1024", "paper_n128", "paper_n32", "paper_n8", "resonant_default",
+         "table_lookup", "table_lookup_grid4d"]
+
+
+def ratio(ns, a, b):
+    return f"{ns[a] / ns[b]:,.1f}×" if {a, b} <= ns.keys() else "–"
+
+
+print("| fabric | " + " | ".join(f"{m} (ns/eval)" for m in modes)
+      + " | direct / lookup | paper_n128 / resonant | paper_n1024 / resonant |")
+print("|---|" + "---:|" * (len(modes) + 3))
 for fabric, by_mode in medians("eval").items():
     ns = {m: v[0] / BATCH for m, v in by_mode.items()}
     cells = [f"{ns[m]:,.0f}" if m in ns else "–" for m in modes]
-    ratio = ns["direct"] / ns["table_lookup"] if {"direct", "table_lookup"} <= ns.keys() else float("nan")
-    print(f"| {fabric} | " + " | ".join(cells) + f" | {ratio:,.0f}× |")
+    print(f"| {fabric} | " + " | ".join(cells) + f" | {ratio(ns, 'direct', 'table_lookup')} | "
+          f"{ratio(ns, 'paper_n128', 'resonant_default')} | {ratio(ns, 'paper_n1024', 'resonant_default')} |")
 
 bake = medians("bake")
 if bake:
