@@ -2,7 +2,7 @@
 
 mod common;
 
-use clothbake::model::{Integration, Patch};
+use clothbake::model::{Integration, Patch, ResonantNodes};
 use common::*;
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
@@ -53,6 +53,32 @@ fn eval_matches_the_library_and_normalises_directions() {
         (
             vec!["eval", "--fabric", "silk_shot", "--samples", "8"],
             Integration::Paper(8),
+        ),
+        (
+            vec!["eval", "--fabric", "silk_shot", "--integration", "paper"],
+            Integration::Paper(32),
+        ),
+        (
+            vec!["eval", "--fabric", "silk_shot", "--integration", "resonant"],
+            Integration::Resonant(ResonantNodes::DEFAULT),
+        ),
+        (
+            vec![
+                "eval",
+                "--fabric",
+                "silk_shot",
+                "--integration",
+                "resonant",
+                "--surface-nodes",
+                "9",
+                "--base-nodes",
+                "4",
+            ],
+            Integration::Resonant(ResonantNodes {
+                surface: 9,
+                base: 4,
+                ..ResonantNodes::DEFAULT
+            }),
         ),
     ] {
         let out = clothbake(&args, input);
@@ -123,6 +149,41 @@ fn bad_arguments_and_fabric_files_exit_non_zero() {
     assert!(stderr(&out).contains("no fabric named 'tweed'") && stderr(&out).contains("velvet"));
     let out = clothbake(&["eval", "--fabric", "velvet", "--samples", "0"], "");
     assert!(!out.status.success());
+    // Options that do not belong to the chosen rule, and node counts out of range.
+    for (args, expected) in [
+        (
+            vec!["--integration", "direct", "--samples", "8"],
+            "--samples applies to paper mode",
+        ),
+        (
+            vec!["--integration", "resonant", "--samples", "8"],
+            "--samples applies to paper mode",
+        ),
+        (vec!["--base-nodes", "3"], "apply to --integration resonant"),
+        (
+            vec!["--integration", "paper", "--surface-nodes", "3"],
+            "apply to --integration resonant",
+        ),
+        (
+            vec!["--integration", "resonant", "--volume-nodes", "0"],
+            "--volume-nodes",
+        ),
+        (
+            vec!["--integration", "resonant", "--surface-nodes", "17"],
+            "must be in 1..=16",
+        ),
+        (vec!["--integration", "midpoint"], "--integration"),
+    ] {
+        let mut all = vec!["eval", "--fabric", "velvet"];
+        all.extend(args.iter().copied());
+        let out = clothbake(&all, "");
+        assert!(!out.status.success(), "{args:?} accepted");
+        assert!(
+            stderr(&out).contains(expected),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
     let dir = std::env::temp_dir().join(format!("clothbake-cli-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bad.toml");
