@@ -46,6 +46,9 @@ struct ClothResonantPair {
     // α interval where both directions face the tangent sample.
     facing: vec2<f32>,
     resonant: f32,
+    // `kinks`: where the reweighted min of P and of M have kinks inside the facing window,
+    // increasing; an unused slot holds facing.y, which no clipped segment has inside it.
+    kinks: vec2<f32>,
     // 0 where a direction is parallel to b (no sample contributes).
     valid: u32,
 }
@@ -93,6 +96,12 @@ fn cloth_resonant_cdf(z: f32) -> f32 {
     let x = abs(z) * 0.70710678;
     let tail = 0.5 * cloth_resonant_erfc_positive(x);
     return select(tail, 1.0 - tail, z > 0.0);
+}
+
+// (Φ(w), Φ(−w)) from one erfc: the smaller of the two keeps its relative accuracy.
+fn cloth_resonant_cdf_pair(w: f32) -> vec2<f32> {
+    let tail = 0.5 * cloth_resonant_erfc_positive(abs(w) * 0.70710678);
+    return select(vec2<f32>(tail, 1.0 - tail), vec2<f32>(1.0 - tail, tail), w > 0.0);
 }
 
 // φ(z), the standard normal density.
@@ -153,7 +162,50 @@ fn cloth_resonant_pair(thread: ClothResonantThread, wi: vec3<f32>, wo: vec3<f32>
     p.facing = vec2<f32>(max(-half_pi - delta_i, -half_pi - delta_o),
         min(half_pi - delta_i, half_pi - delta_o));
     p.resonant = -atan2(p.ti0 + p.to0, p.zi + p.zo);
+    p.kinks = cloth_resonant_kinks(p);
     return p;
+}
+
+// `kinks`: P(wi) = P(wo) at the facing window's centre; M(wi) = M(wo) where
+// tan α = (|bo| zi − |bi| zo)/(|bo| ti0 − |bi| to0), the one solution inside the window if
+// any (the window is narrower than π). As on the CPU, 0/0 (both b components 0) gives no M
+// kink; atan2 folded to (−π/2, π/2] stands for atan of the quotient, ±π/2 where it is ±∞.
+fn cloth_resonant_kinks(p: ClothResonantPair) -> vec2<f32> {
+    let centre = 0.5 * (p.facing.x + p.facing.y);
+    var kinks = vec2<f32>(centre, p.facing.y);
+    let bi = abs(p.bi);
+    let bo = abs(p.bo);
+    let num = bo * p.zi - bi * p.zo;
+    let den = bo * p.ti0 - bi * p.to0;
+    if num == 0.0 && den == 0.0 {
+        return kinks;
+    }
+    let pi = 3.14159265;
+    var m = atan2(num, den);
+    if m > 0.5 * pi {
+        m -= pi;
+    } else if m < -0.5 * pi {
+        m += pi;
+    }
+    for (var k = -1.0; k <= 1.0; k += 1.0) {
+        let a = m + k * pi;
+        if a > p.facing.x && a < p.facing.y && a != centre {
+            kinks = vec2<f32>(min(a, centre), max(a, centre));
+        }
+    }
+    return kinks;
+}
+
+// `split_counts`: the nodes a part holding `fraction` of an interval gets out of its `n`,
+// the share rounded up, at least CLOTH_RESONANT_MIN_NODES_PER_PART (or n), at most n.
+fn cloth_resonant_split_count(n: u32, fraction: f32) -> u32 {
+    let share = u32(max(ceil(f32(n) * fraction), 0.0));
+    return clamp(share, min(CLOTH_RESONANT_MIN_NODES_PER_PART, n), n);
+}
+
+// The first index of the n-point rule in CLOTH_RESONANT_GL (n ≥ 1).
+fn cloth_resonant_rule_start(n: u32) -> u32 {
+    return n * (n - 1u) / 2u;
 }
 
 // `theta_h_and_slope`: θh at α and dθh/dα = (cos φi + cos φo)/2.
@@ -234,12 +286,23 @@ fn cloth_resonant_point(thread: ClothResonantThread, p: ClothResonantPair, alpha
 }
 
 // `ResonantRule::segment`: the segment [start, end] (density = share/length per radian)
-// clipped to the facing window. Returns (⟨reflection⟩, ⟨transmission⟩, ⟨P⟩) contributions.
+// clipped to the facing window, its node sets split at the pair's kinks inside it. Returns
+// (⟨reflection⟩, ⟨transmission⟩, ⟨P⟩) contributions.
 fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, start: f32, end: f32, density: f32) -> vec3<f32> {
     let lo = max(start, p.facing.x);
     let hi = min(end, p.facing.y);
     if lo >= hi {
         return vec3<f32>(0.0);
+    }
+    // `Segment::inner_cuts`: the kinks strictly inside [lo, hi], increasing, then hi.
+    var cuts = array<f32, 3>(hi, hi, hi);
+    var n_cuts = 0u;
+    for (var k = 0u; k < 2u; k++) {
+        let c = p.kinks[k];
+        if c > lo && c < hi {
+            cuts[n_cuts] = c;
+            n_cuts++;
+        }
     }
     let centre = clamp(p.resonant, lo, hi);
     let probe = cloth_resonant_theta_h(p, centre);
@@ -260,58 +323,96 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
         if abs(theta_c) / sigma > CLOTH_RESONANT_NEGLIGIBLE_LOBE_Z {
             continue;
         }
-        // Reflect a segment wholly above the peak into the lower tail.
-        let mirrored = z_lo > 0.0;
-        let side = select(1.0, -1.0, mirrored);
-        let a = select(z_lo, -z_hi, mirrored);
-        let b = select(z_hi, -z_lo, mirrored);
-        let t_lo = cloth_resonant_cdf(a);
-        // 1 − t_hi = Φ(−b), accurate where t_hi is near 1.
-        let u_hi = cloth_resonant_cdf(-b);
-        let t_hi = cloth_resonant_cdf(b);
-        let span = t_hi - t_lo;
-        var rule = CLOTH_RESONANT_RULES[lobe];
-        if span < CLOTH_RESONANT_TAIL_MASS / 8.0 {
-            rule = CLOTH_RESONANT_RULES[5u + lobe];
-        } else if span < CLOTH_RESONANT_TAIL_MASS {
-            rule = CLOTH_RESONANT_RULES[3u + lobe];
+        // Reflect a segment wholly above the peak into the lower tail; the part ends in
+        // w = side·z, clamped to ±LOBE_Z_RANGE, increasing (t = Φ(w)).
+        let side = select(1.0, -1.0, z_lo > 0.0);
+        let range = CLOTH_RESONANT_LOBE_Z_RANGE;
+        var ends = array<f32, 4>();
+        ends[0] = clamp(select(z_lo, -z_hi, side < 0.0), -range, range);
+        for (var k = 0u; k < n_cuts; k++) {
+            let zc = (theta_c + slope * (cuts[k] - centre)) / sigma;
+            ends[k + 1u] = clamp(side * zc, -range, range);
         }
-        // dα = (σ/k) dz and dz = dt/φ(z).
-        let scale = density * span * sigma / slope;
-        for (var k = rule.x; k < rule.x + rule.y; k++) {
-            let node = CLOTH_RESONANT_GL[k];
-            let t = t_lo + span * node.x;
-            var zn: f32;
-            if t <= 0.5 {
-                zn = cloth_resonant_quantile(t);
-            } else {
-                zn = -cloth_resonant_quantile(u_hi + span * (1.0 - node.x));
+        if n_cuts == 2u && ends[1] > ends[2] {
+            let swap = ends[1];
+            ends[1] = ends[2];
+            ends[2] = swap;
+        }
+        ends[n_cuts + 1u] = clamp(select(z_hi, -z_lo, side < 0.0), -range, range);
+        // (Φ(w), Φ(−w)) at each end.
+        var cdf = array<vec2<f32>, 4>();
+        for (var k = 0u; k <= n_cuts + 1u; k++) {
+            cdf[k] = cloth_resonant_cdf_pair(ends[k]);
+        }
+        let mass = cdf[n_cuts + 1u].x - cdf[0].x;
+        // The lobe's mass in the segment sets how many of its nodes the segment gets.
+        var n = CLOTH_RESONANT_NODES[lobe];
+        if mass < CLOTH_RESONANT_TAIL_MASS / 8.0 {
+            n = (n + 3u) / 4u;
+        } else if mass < CLOTH_RESONANT_TAIL_MASS {
+            n = (n + 1u) / 2u;
+        }
+        for (var part = 0u; part <= n_cuts; part++) {
+            let ta = cdf[part].x;
+            let tb = cdf[part + 1u].x;
+            // 1 − tb = Φ(−wb), accurate where tb is near 1.
+            let ub = cdf[part + 1u].y;
+            // A part wholly above the median takes its width from the complements.
+            let width = select(tb - ta, cdf[part].y - ub, ends[part] >= 0.0);
+            if !(width > 0.0) {
+                continue;
             }
-            zn *= side;
-            let alpha = centre + (sigma * zn - theta_c) / slope;
-            let weight = scale * node.y / cloth_resonant_pdf(zn);
-            let s = cloth_resonant_sample(thread, p, alpha);
-            if lobe == 0u {
-                sums.x += weight * s.y;
-            } else {
-                sums.y += weight * s.z;
+            let count = cloth_resonant_split_count(n, width / mass);
+            let first = cloth_resonant_rule_start(count);
+            // dα = (σ/k) dz and dz = dt/φ(z).
+            let scale = density * width * sigma / slope;
+            for (var k = first; k < first + count; k++) {
+                let node = CLOTH_RESONANT_GL[k];
+                let t = ta + width * node.x;
+                var zn: f32;
+                if t <= 0.5 {
+                    zn = cloth_resonant_quantile(t);
+                } else {
+                    zn = -cloth_resonant_quantile(ub + width * (1.0 - node.x));
+                }
+                zn *= side;
+                let alpha = centre + (sigma * zn - theta_c) / slope;
+                let weight = scale * node.y / cloth_resonant_pdf(zn);
+                let s = cloth_resonant_sample(thread, p, alpha);
+                if lobe == 0u {
+                    sums.x += weight * s.y;
+                } else {
+                    sums.y += weight * s.z;
+                }
             }
         }
     }
-    // Base nodes in α: ⟨P⟩, the kd term, and the lobes smooth over the segment.
-    let width = hi - lo;
-    let base = CLOTH_RESONANT_RULES[2];
-    for (var k = base.x; k < base.x + base.y; k++) {
-        let node = CLOTH_RESONANT_GL[k];
-        let weight = density * width * node.y;
-        let s = cloth_resonant_sample(thread, p, lo + width * node.x);
-        sums.z += weight * s.x;
-        sums.y += weight * s.w;
-        if on_base.x {
-            sums.x += weight * s.y;
+    // Base nodes in α, per part between the cuts: ⟨P⟩, the kd term, and the lobes smooth
+    // over the segment.
+    for (var part = 0u; part <= n_cuts; part++) {
+        var a = lo;
+        if part > 0u {
+            a = cuts[part - 1u];
         }
-        if on_base.y {
-            sums.y += weight * s.z;
+        let b = cuts[part];
+        let width = b - a;
+        if !(width > 0.0) {
+            continue;
+        }
+        let count = cloth_resonant_split_count(CLOTH_RESONANT_NODES.z, width / (hi - lo));
+        let first = cloth_resonant_rule_start(count);
+        for (var k = first; k < first + count; k++) {
+            let node = CLOTH_RESONANT_GL[k];
+            let weight = density * width * node.y;
+            let s = cloth_resonant_sample(thread, p, a + width * node.x);
+            sums.z += weight * s.x;
+            sums.y += weight * s.w;
+            if on_base.x {
+                sums.x += weight * s.y;
+            }
+            if on_base.y {
+                sums.y += weight * s.z;
+            }
         }
     }
     return sums;

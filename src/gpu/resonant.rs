@@ -4,22 +4,20 @@
 //! Integration::Resonant(nodes))`.
 //!
 //! The WGSL is specialised per fabric and node counts: [`resonant_wgsl`] prepends to the
-//! template the thresholds (from the Rust constants), the Gauss–Legendre rules (computed in
-//! f64 by [`GaussLegendre::new`], rounded to f32), both threads' parameters, and per thread a
-//! function that visits the thread's curve pieces one by one (flat pieces as single nodes,
-//! segments by `cloth_resonant_segment`). Everything is a constant, so group 0 is empty.
-//!
-//! Status: the shader follows the CPU rule as committed in 61bf522 (one lobe rule per
-//! clipped segment, negligible beyond 6σ, half/quarter tail rules). Commit e61832b changed
-//! the CPU rule (node sets split at the kinks of the reweighted min of M and P, lobe nodes
-//! within 8σ, default nodes 6/4/2); that is not ported yet, and tests/gpu_resonant.rs, which
-//! compares with the CPU rule pair by pair, fails until it is.
+//! template the thresholds and node counts (from the Rust constants), the Gauss–Legendre rules
+//! for every count 1..=max(surface, volume, base) (the tail rules and the kink splits pick
+//! any of them per pair; computed in f64 by [`GaussLegendre::new`], rounded to f32), both
+//! threads' parameters, and per thread a function that visits the thread's curve pieces one
+//! by one (flat pieces as single nodes, segments by `cloth_resonant_segment`, which splits
+//! its node sets at the pair's kinks as `ResonantRule::segment` does). Everything is a
+//! constant, so group 0 is empty.
 
 use super::direct::{degenerate_threshold, unit_area_gaussian};
 use super::{GpuBrdf, GpuContext, GpuError};
 use crate::model::curve::{Integration, curve_pieces};
 use crate::model::resonant::{
-    FLAT_LOBE_SPAN, GaussLegendre, NEGLIGIBLE_LOBE_Z, ResonantNodes, TAIL_MASS,
+    FLAT_LOBE_SPAN, GaussLegendre, LOBE_Z_RANGE, MIN_NODES_PER_PART, NEGLIGIBLE_LOBE_Z,
+    ResonantNodes, TAIL_MASS,
 };
 use crate::model::{Fabric, Thread};
 use std::fmt::Write;
@@ -59,11 +57,18 @@ pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
         ("CLOTH_RESONANT_FLAT_LOBE_SPAN", FLAT_LOBE_SPAN as f32),
         ("CLOTH_RESONANT_NEGLIGIBLE_LOBE_Z", NEGLIGIBLE_LOBE_Z as f32),
         ("CLOTH_RESONANT_TAIL_MASS", TAIL_MASS as f32),
+        ("CLOTH_RESONANT_LOBE_Z_RANGE", LOBE_Z_RANGE as f32),
         ("CLOTH_RESONANT_GAP", gap as f32),
     ];
     for (name, value) in consts {
         let _ = writeln!(w, "const {name}: f32 = {};", lit(value));
     }
+    let _ = writeln!(
+        w,
+        "const CLOTH_RESONANT_MIN_NODES_PER_PART: u32 = {MIN_NODES_PER_PART}u;\n\
+         const CLOTH_RESONANT_NODES: vec3<u32> = vec3<u32>({}u, {}u, {}u);",
+        nodes.surface, nodes.volume, nodes.base
+    );
     let _ = writeln!(
         w,
         "const CLOTH_RESONANT_COVERAGE: vec2<f32> = {};",
@@ -80,39 +85,25 @@ pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
             vec_lit(&albedo)
         );
     }
-    // The rules as `ResonantRule::new` builds them: surface, volume, base, the half rules
-    // (surface, volume), the quarter rules (surface, volume); all nodes in one array.
-    let counts = [
-        nodes.surface,
-        nodes.volume,
-        nodes.base,
-        nodes.surface.div_ceil(2),
-        nodes.volume.div_ceil(2),
-        nodes.surface.div_ceil(4),
-        nodes.volume.div_ceil(4),
-    ];
+    // The n-point rules for every count a part can get, n = 1..=max(surface, volume, base)
+    // (`ResonantRule::rule`; tail rules and kink splits only lower a count), flattened: the
+    // n-point rule starts at n(n − 1)/2.
+    let max = nodes.surface.max(nodes.volume).max(nodes.base) as usize;
     let mut gl = Vec::new();
-    let mut rules = Vec::new();
-    for n in counts {
-        let rule = GaussLegendre::new(n as usize);
-        rules.push(format!("vec2<u32>({}u, {}u)", gl.len(), rule.len()));
+    for n in 1..=max {
+        let rule = GaussLegendre::new(n);
         for (&x, &wt) in rule.nodes.iter().zip(&rule.weights) {
             gl.push(vec_lit(&[x as f32, wt as f32]));
         }
     }
+    debug_assert_eq!(gl.len(), max * (max + 1) / 2);
     let _ = writeln!(
         w,
-        "// Gauss–Legendre nodes on [0, 1] and weights (summing to 1 per rule).\n\
+        "// Gauss–Legendre nodes on [0, 1] and weights (summing to 1 per rule), the n-point \
+         rule at n(n − 1)/2, n = 1..={max}.\n\
          const CLOTH_RESONANT_GL = array<vec2<f32>, {}>(\n    {});",
         gl.len(),
         gl.join(",\n    ")
-    );
-    let _ = writeln!(
-        w,
-        "// (first, count) in CLOTH_RESONANT_GL: surface, volume, base, half surface, half \
-         volume, quarter surface, quarter volume.\n\
-         const CLOTH_RESONANT_RULES = array<vec2<u32>, 7>({});",
-        rules.join(", ")
     );
     for (j, thread) in fabric.threads().into_iter().enumerate() {
         thread_wgsl(w, fabric, thread, j, nodes);
