@@ -197,9 +197,10 @@ fn cloth_resonant_kinks(p: ClothResonantPair) -> vec2<f32> {
 }
 
 // `split_counts`: the nodes a part holding `fraction` of an interval gets out of its `n`,
-// the share rounded up, at least CLOTH_RESONANT_MIN_NODES_PER_PART (or n), at most n.
+// the share rounded up unless within CLOTH_RESONANT_SPLIT_TOLERANCE of a whole number, at
+// least CLOTH_RESONANT_MIN_NODES_PER_PART (or n), at most n.
 fn cloth_resonant_split_count(n: u32, fraction: f32) -> u32 {
-    let share = u32(max(ceil(f32(n) * fraction), 0.0));
+    let share = u32(max(ceil(f32(n) * fraction - CLOTH_RESONANT_SPLIT_TOLERANCE), 0.0));
     return clamp(share, min(CLOTH_RESONANT_MIN_NODES_PER_PART, n), n);
 }
 

@@ -17,7 +17,7 @@ use super::{GpuBrdf, GpuContext, GpuError};
 use crate::model::curve::{Integration, curve_pieces};
 use crate::model::resonant::{
     FLAT_LOBE_SPAN, GaussLegendre, LOBE_Z_RANGE, MIN_NODES_PER_PART, NEGLIGIBLE_LOBE_Z,
-    ResonantNodes, TAIL_MASS,
+    ResonantNodes, SPLIT_TOLERANCE, TAIL_MASS,
 };
 use crate::model::{Fabric, Thread};
 use std::fmt::Write;
@@ -58,6 +58,7 @@ pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
         ("CLOTH_RESONANT_NEGLIGIBLE_LOBE_Z", NEGLIGIBLE_LOBE_Z as f32),
         ("CLOTH_RESONANT_TAIL_MASS", TAIL_MASS as f32),
         ("CLOTH_RESONANT_LOBE_Z_RANGE", LOBE_Z_RANGE as f32),
+        ("CLOTH_RESONANT_SPLIT_TOLERANCE", SPLIT_TOLERANCE as f32),
         ("CLOTH_RESONANT_GAP", gap as f32),
     ];
     for (name, value) in consts {

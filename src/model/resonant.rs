@@ -99,6 +99,10 @@ pub const NEGLIGIBLE_LOBE_Z: f64 = 6.0;
 /// one to two more evaluations per light.
 pub const MIN_NODES_PER_PART: u32 = 2;
 
+/// How far above a whole number a part's share of nodes must be to get one more (see
+/// [`split_counts`]); far above f32 rounding, far below any share that matters.
+pub const SPLIT_TOLERANCE: f64 = 1e-3;
+
 /// Lobe nodes stay within this many standard deviations of the peak: beyond it the Gaussian
 /// holds 1e-15 of its mass, and in f64 Φ and φ underflow further out (φ(38) = 0), which
 /// would turn the weights into 0/0.
@@ -266,8 +270,12 @@ pub struct ResonantRule {
 
 /// The nodes a part holding `fraction` of an interval gets out of the interval's `n`: its
 /// share rounded up, so the density never drops, and at least [`MIN_NODES_PER_PART`].
+/// A share within [`SPLIT_TOLERANCE`] of a whole number is not rounded up: on highlight and
+/// mirrored pairs a kink sits at the lobe's median, the share is n/2 exactly, and rounding
+/// noise (f64 here, f32 in the shader) would otherwise pick the count.
 fn split_counts(n: u32, fraction: f64) -> usize {
-    ((n as f64 * fraction).ceil() as usize).clamp(MIN_NODES_PER_PART.min(n) as usize, n as usize)
+    ((n as f64 * fraction - SPLIT_TOLERANCE).ceil() as usize)
+        .clamp(MIN_NODES_PER_PART.min(n) as usize, n as usize)
 }
 
 impl ResonantRule {
