@@ -155,7 +155,7 @@ fn tiny_report_writes_json_markdown_and_plots() {
                 .iter()
                 .map(|r| r["label"].as_str().unwrap())
                 .collect::<Vec<_>>(),
-            ["3/2/2", "7/5/3"]
+            ["3/2/2".to_string(), ResonantNodes::DEFAULT.to_string()]
         );
         assert_eq!(
             resonant
@@ -241,12 +241,13 @@ fn tiny_report_writes_json_markdown_and_plots() {
     }
 
     let md = std::fs::read_to_string(out.join("REPORT.md")).unwrap();
+    let default_label = format!("{} (default)", ResonantNodes::DEFAULT);
     for needle in [
         "## Summary",
         "## Error against table size",
         "## Error against CPU cost",
         "## Resonant quadrature",
-        "7/5/3 (default)",
+        default_label.as_str(),
         "winner vs resonant",
         "Resonant against paper mode at equal error",
         "## Bake time",

@@ -291,7 +291,7 @@ pub struct Verdict {
 /// An evaluation of the model (paper mode or resonant) a table is compared with.
 #[derive(Clone, Debug, Serialize)]
 pub struct EvaluationMatch {
-    /// "paper N = 32" or "resonant 7/5/3".
+    /// "paper N = 32" or "resonant 6/4/2".
     pub evaluation: String,
     pub ns_per_eval: f64,
     pub error: f64,
