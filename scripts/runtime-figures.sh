@@ -3,7 +3,7 @@
 # shader at 1024×1024, every built-in fabric (or those named in FABRICS, space separated),
 # on whatever adapter wgpu finds: the median ms per frame that `clothbake render` prints for
 # --shader constant (F = 1/π: the frame without BRDF work, the floor under every shader),
-# lookup, direct at N = 8 and 32, and resonant (default nodes 6/4/2), in one run. A shared
+# lookup, direct at N = 8 and 32, and resonant (default nodes 6/5/2), in one run. A shared
 # machine's speed drifts over minutes, so the five renders of a fabric alternate, ROUNDS
 # times (default 3), and each figure is the median of its rounds' medians of FRAMES frames
 # (default 5). Ratios: whole frames, and BRDF work alone (frame − floor).

@@ -390,6 +390,14 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
     }
     // Base nodes in α, per part between the cuts: ⟨P⟩, the kd term, and the lobes smooth
     // over the segment.
+    // A lobe riding on the base nodes brings its node count with it.
+    var base_count = CLOTH_RESONANT_NODES.z;
+    if on_base.x {
+        base_count = max(base_count, CLOTH_RESONANT_NODES.x);
+    }
+    if on_base.y {
+        base_count = max(base_count, CLOTH_RESONANT_NODES.y);
+    }
     for (var part = 0u; part <= n_cuts; part++) {
         var a = lo;
         if part > 0u {
@@ -400,7 +408,7 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
         if !(width > 0.0) {
             continue;
         }
-        let count = cloth_resonant_split_count(CLOTH_RESONANT_NODES.z, width / (hi - lo));
+        let count = cloth_resonant_split_count(base_count, width / (hi - lo));
         let first = cloth_resonant_rule_start(count);
         for (var k = first; k < first + count; k++) {
             let node = CLOTH_RESONANT_GL[k];

@@ -16,10 +16,10 @@
 //!   `g(θh) dα = (σ/k) g(θh) / φ(z) dt` with `g(θh)/φ(z) ≈ 1/σ`, and Gauss–Legendre nodes
 //!   in t over `[Φ(z(lo)), Φ(z(hi))]` integrate what is left, a smooth function, with no
 //!   truncation of the lobe at the segment's ends. θh's curvature only makes the ratio
-//!   deviate from 1, smoothly. A lobe that is less than `FLAT_LOBE_SPAN` standard
-//!   deviations across the segment is smooth there and is integrated on the base nodes; one
-//!   whose nearest point is more than `NEGLIGIBLE_LOBE_Z` deviations away is dropped
-//!   (`g` there is below 1e-8 of its peak).
+//!   deviate from 1, smoothly. A lobe that is at most `FLAT_LOBE_SPAN` standard
+//!   deviations across the segment is smooth there and is integrated on the base nodes,
+//!   with as many of them as the lobe would have had; one whose nearest point is more than
+//!   `NEGLIGIBLE_LOBE_Z` deviations away is dropped (`g` there is below 1e-8 of its peak).
 //! - **Base nodes.** Gauss–Legendre in α over the clipped segment for `P` and the kd term.
 //! - **Kinks.** The reweighted products `(1 − u)·a·b + u·min(a, b)` of M and P have kinks
 //!   where their two factors cross (see [`kinks`]); both node sets are split there, each
@@ -46,13 +46,13 @@ impl ResonantNodes {
     /// Most nodes of one kind per segment.
     pub const MAX: u32 = 16;
 
-    /// The default counts: the fewest measured (6/4/2 against 5/3/2, 7/5/2, 7/5/3) with every
-    /// built-in fabric within 0.25% relative RMS of the direct rule on 20,000 uniform and
-    /// 20,000 highlight pairs (worst 0.21%), at 12–36 evaluations per light
-    /// (tests/resonant.rs).
+    /// The default counts: measured against 5/3/2, 5/4/2 and 6/4/2, the cheapest with every
+    /// built-in fabric within 0.25% relative RMS of the direct rule with margin on 20,000
+    /// uniform and 20,000 highlight pairs (worst 0.20%, crepe's highlight pairs; 5/4/2 reaches
+    /// 0.22%), at 12–32 evaluations per light (tests/resonant.rs).
     pub const DEFAULT: Self = Self {
         surface: 6,
-        volume: 4,
+        volume: 5,
         base: 2,
     };
 
@@ -86,15 +86,21 @@ impl std::fmt::Display for ResonantNodes {
     }
 }
 
-/// A lobe narrower than this many standard deviations across a segment is integrated on the
-/// base nodes: over so short a stretch the Gaussian is close to a low-order polynomial.
-pub const FLAT_LOBE_SPAN: f64 = 0.5;
+/// A lobe that spans at most this many standard deviations across a (clipped) segment is
+/// integrated on the base nodes, their count raised to the lobe's: over so short a stretch
+/// the Gaussian is a smooth, low-order function of α, and one node set serves every term.
+/// Only lobes that are narrow against the segment get nodes of their own in t = Φ(z).
+/// Measured at 6/4/2 (4,000 + 4,000 pairs): with 0.5, linen needs 29–31 evaluations per
+/// light for 0.16%; with 4, 15 for 0.04%, and satin 30 instead of 37 for the same 0.1%;
+/// beyond 5 crepe and silk_shot lose accuracy (the surface lobe on too few nodes).
+pub const FLAT_LOBE_SPAN: f64 = 4.0;
 /// A lobe whose value within a segment is nowhere above `g` at this many standard
 /// deviations (e^−18 ≈ 1.5e-8 of its peak) contributes nothing measurable there.
 pub const NEGLIGIBLE_LOBE_Z: f64 = 6.0;
 
 /// Fewest nodes a part of a lobe's or the base's interval gets when kinks split it (or all
-/// of the count, if smaller). Measured at 6/4/2 on 20,000 pairs per set: with 1, crepe's
+/// of the count, if smaller). Measured at 6/4/2 on 20,000 pairs per set (with lobes on the
+/// base nodes only below 0.5 deviations): with 1, crepe's
 /// highlight error is 0.21% and silk_shot's 0.28%; with 2, at most 0.21% on any fabric for
 /// one to two more evaluations per light.
 pub const MIN_NODES_PER_PART: u32 = 2;
@@ -416,8 +422,16 @@ impl ResonantRule {
         for cut in segment.inner_cuts() {
             cuts.push(cut);
         }
+        // A lobe riding on the base nodes brings its node count with it.
+        let mut count = self.nodes.base;
+        if on_base[0] {
+            count = count.max(self.nodes.surface);
+        }
+        if on_base[1] {
+            count = count.max(self.nodes.volume);
+        }
         for (a, b) in parts(lo, hi, cuts.as_slice()) {
-            let rule = self.rule(split_counts(self.nodes.base, (b - a) / (hi - lo)));
+            let rule = self.rule(split_counts(count, (b - a) / (hi - lo)));
             for (&x, &w) in rule.nodes.iter().zip(&rule.weights) {
                 add(a + (b - a) * x, density * (b - a) * w, terms, cost);
             }

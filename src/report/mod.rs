@@ -103,14 +103,14 @@ pub const QUICK_PAPER_SAMPLES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
 /// rasteriser takes seconds.
 pub const GPU_PAPER_MAX_SAMPLES: u32 = 64;
 
-/// Resonant node counts of the full report, cheapest first; 6/4/2 is
+/// Resonant node counts of the full report, cheapest first; 6/5/2 is
 /// [`ResonantNodes::DEFAULT`].
 pub const RESONANT_NODES: [ResonantNodes; 6] = [
     nodes(3, 2, 2),
     nodes(4, 3, 2),
-    nodes(5, 3, 2),
+    nodes(5, 4, 2),
     ResonantNodes::DEFAULT,
-    nodes(7, 5, 3),
+    nodes(8, 6, 3),
     nodes(10, 8, 4),
 ];
 
@@ -291,7 +291,7 @@ pub struct Verdict {
 /// An evaluation of the model (paper mode or resonant) a table is compared with.
 #[derive(Clone, Debug, Serialize)]
 pub struct EvaluationMatch {
-    /// "paper N = 32" or "resonant 6/4/2".
+    /// "paper N = 32" or "resonant 6/5/2".
     pub evaluation: String,
     pub ns_per_eval: f64,
     pub error: f64,
