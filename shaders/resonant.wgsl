@@ -15,7 +15,8 @@
 //   down to Φ ≈ 1e-38), and the segment is reflected to lie in the lower tail as on the
 //   CPU; a node past the median is placed from the complement 1 − t = Φ(−b) + span·(1 − x),
 //   so Φ⁻¹ never sees a p near 1, where f32 has no digits left.
-// - The sample's cos²θd, 1 − Fr and the angles φd, ψd use the forms of direct.wgsl.
+// - The sample itself is sample.wgsl's (which src/gpu/resonant.rs prepends too), with its
+//   f32 forms of cos²θd, 1 − Fr and the angles φd, ψd.
 //
 // Every top-level name starts with `cloth_`/`Cloth`/`CLOTH_` (the `GpuBrdf` naming contract).
 
@@ -34,15 +35,7 @@ struct ClothResonantThread {
 
 // `PairInThreadFrame` with the facing window and the resonant offset α*.
 struct ClothResonantPair {
-    ti0: f32,
-    zi: f32,
-    bi: f32,
-    to0: f32,
-    zo: f32,
-    bo: f32,
-    par_i: f32,
-    par_o: f32,
-    u_psi: f32,
+    s: ClothSamplePair,
     // α interval where both directions face the tangent sample.
     facing: vec2<f32>,
     resonant: f32,
@@ -51,33 +44,6 @@ struct ClothResonantPair {
     kinks: vec2<f32>,
     // 0 where a direction is parallel to b (no sample contributes).
     valid: u32,
-}
-
-// `reweighted`: (1 − u)·a·b + u·min(a, b).
-fn cloth_resonant_reweighted(u: f32, a: f32, b: f32) -> f32 {
-    return (1.0 - u) * a * b + u * min(a, b);
-}
-
-// (Fr, (1 − Fr)²) as in direct.wgsl: 1 − Fr without cancellation at grazing incidence.
-fn cloth_resonant_fresnel(eta: f32, no_interface: bool, cos_i_in: f32) -> vec2<f32> {
-    if no_interface {
-        return vec2<f32>(0.0, 1.0);
-    }
-    let cos_i = clamp(cos_i_in, 0.0, 1.0);
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    let cos_t = sqrt(max(1.0 - sin2_t, 0.0));
-    let ds = cos_i + eta * cos_t;
-    let dp = eta * cos_i + cos_t;
-    let rs = (cos_i - eta * cos_t) / ds;
-    let rp = (eta * cos_i - cos_t) / dp;
-    let transmitted = 2.0 * eta * cos_i * cos_t * (1.0 / (ds * ds) + 1.0 / (dp * dp));
-    return vec2<f32>(0.5 * (rs * rs + rp * rp), transmitted * transmitted);
-}
-
-// For unit 2D vectors: (the angle between them, cos of half of it) by half-angle forms.
-fn cloth_resonant_angle(a: vec2<f32>, c: vec2<f32>) -> vec2<f32> {
-    let sum = length(a + c);
-    return vec2<f32>(2.0 * atan2(length(a - c), sum), min(0.5 * sum, 1.0));
 }
 
 // erfc(x) for x ≥ 0: Numerical Recipes' Chebyshev fit `erfcc` (fractional error < 1.2e-7
@@ -140,28 +106,18 @@ fn cloth_resonant_quantile(p_in: f32) -> f32 {
 // `ThreadModel::pair_frame` plus α* = −atan2(h·t0, h·z), h = wi + wo.
 fn cloth_resonant_pair(thread: ClothResonantThread, wi: vec3<f32>, wo: vec3<f32>) -> ClothResonantPair {
     var p: ClothResonantPair;
-    p.ti0 = dot(wi, thread.t0);
-    p.zi = wi.z;
-    p.bi = dot(wi, thread.b);
-    p.to0 = dot(wo, thread.t0);
-    p.zo = wo.z;
-    p.bo = dot(wo, thread.b);
-    p.par_i = sqrt(p.ti0 * p.ti0 + p.zi * p.zi);
-    p.par_o = sqrt(p.to0 * p.to0 + p.zo * p.zo);
+    p.s = cloth_sample_pair(wi, wo, thread.t0, thread.b, CLOTH_RESONANT_K_U);
     p.valid = 0u;
-    if p.par_i <= CLOTH_RESONANT_THRESHOLD || p.par_o <= CLOTH_RESONANT_THRESHOLD {
+    if p.s.par_i <= CLOTH_RESONANT_THRESHOLD || p.s.par_o <= CLOTH_RESONANT_THRESHOLD {
         return p;
     }
     p.valid = 1u;
-    let psi_d = cloth_resonant_angle(vec2<f32>(p.ti0, p.zi) / p.par_i,
-        vec2<f32>(p.to0, p.zo) / p.par_o).x;
-    p.u_psi = exp(psi_d * psi_d * CLOTH_RESONANT_K_U);
     let half_pi = 1.5707964;
-    let delta_i = atan2(p.ti0, p.zi);
-    let delta_o = atan2(p.to0, p.zo);
+    let delta_i = atan2(p.s.ti0, p.s.zi);
+    let delta_o = atan2(p.s.to0, p.s.zo);
     p.facing = vec2<f32>(max(-half_pi - delta_i, -half_pi - delta_o),
         min(half_pi - delta_i, half_pi - delta_o));
-    p.resonant = -atan2(p.ti0 + p.to0, p.zi + p.zo);
+    p.resonant = -atan2(p.s.ti0 + p.s.to0, p.s.zi + p.s.zo);
     p.kinks = cloth_resonant_kinks(p);
     return p;
 }
@@ -173,10 +129,10 @@ fn cloth_resonant_pair(thread: ClothResonantThread, wi: vec3<f32>, wo: vec3<f32>
 fn cloth_resonant_kinks(p: ClothResonantPair) -> vec2<f32> {
     let centre = 0.5 * (p.facing.x + p.facing.y);
     var kinks = vec2<f32>(centre, p.facing.y);
-    let bi = abs(p.bi);
-    let bo = abs(p.bo);
-    let num = bo * p.zi - bi * p.zo;
-    let den = bo * p.ti0 - bi * p.to0;
+    let bi = abs(p.s.bi);
+    let bo = abs(p.s.bo);
+    let num = bo * p.s.zi - bi * p.s.zo;
+    let den = bo * p.s.ti0 - bi * p.s.to0;
     if num == 0.0 && den == 0.0 {
         return kinks;
     }
@@ -213,67 +169,27 @@ fn cloth_resonant_rule_start(n: u32) -> u32 {
 fn cloth_resonant_theta_h(p: ClothResonantPair, alpha: f32) -> vec2<f32> {
     let cos_a = cos(alpha);
     let sin_a = sin(alpha);
-    let ni = p.zi * cos_a - p.ti0 * sin_a;
-    let no = p.zo * cos_a - p.to0 * sin_a;
-    let si = p.ti0 * cos_a + p.zi * sin_a;
-    let so = p.to0 * cos_a + p.zo * sin_a;
-    let perp_i = sqrt(ni * ni + p.bi * p.bi);
-    let perp_o = sqrt(no * no + p.bo * p.bo);
+    let ni = p.s.zi * cos_a - p.s.ti0 * sin_a;
+    let no = p.s.zo * cos_a - p.s.to0 * sin_a;
+    let si = p.s.ti0 * cos_a + p.s.zi * sin_a;
+    let so = p.s.to0 * cos_a + p.s.zo * sin_a;
+    let perp_i = sqrt(ni * ni + p.s.bi * p.s.bi);
+    let perp_o = sqrt(no * no + p.s.bo * p.s.bo);
     let ki = select(0.0, ni / perp_i, perp_i > 0.0);
     let ko = select(0.0, no / perp_o, perp_o > 0.0);
     return vec2<f32>(0.5 * (atan2(si, perp_i) + atan2(so, perp_o)), 0.5 * (ki + ko));
 }
 
-// `ThreadModel::sample` at α: (P, reflection, volume, diffuse) of `SampleTerms`, 0 where
-// either direction faces away or a projection is degenerate.
+// `ThreadModel::sample` at α (sample.wgsl): (P, reflection, volume, diffuse).
 fn cloth_resonant_sample(thread: ClothResonantThread, p: ClothResonantPair, alpha: f32) -> vec4<f32> {
-    let cos_a = cos(alpha);
-    let sin_a = sin(alpha);
-    let ni = p.zi * cos_a - p.ti0 * sin_a;
-    let no = p.zo * cos_a - p.to0 * sin_a;
-    if ni <= 0.0 || no <= 0.0 {
-        return vec4<f32>(0.0);
-    }
-    let perp_i = sqrt(ni * ni + p.bi * p.bi);
-    let perp_o = sqrt(no * no + p.bo * p.bo);
-    if perp_i <= CLOTH_RESONANT_THRESHOLD || perp_o <= CLOTH_RESONANT_THRESHOLD {
-        return vec4<f32>(0.0);
-    }
-    let masking_p = cloth_resonant_reweighted(p.u_psi, ni / p.par_i, no / p.par_o);
-    let phi = cloth_resonant_angle(vec2<f32>(ni, p.bi) / perp_i, vec2<f32>(no, p.bo) / perp_o);
-    let u_phi = exp(phi.x * phi.x * CLOTH_RESONANT_K_U);
-    let cos_half_phi_d = phi.y;
-    let shadowing_m = cloth_resonant_reweighted(u_phi, ni / perp_i, no / perp_o);
-
-    let si = p.ti0 * cos_a + p.zi * sin_a;
-    let so = p.to0 * cos_a + p.zo * sin_a;
-    let theta_h = 0.5 * (atan2(si, perp_i) + atan2(so, perp_o));
-    // cos²θd = (1 + ĉi ĉo + ŝi ŝo)/2, rewritten where ŝi ŝo < 0 cancels (direct.wgsl).
-    let ri = sqrt(si * si + perp_i * perp_i);
-    let ro = sqrt(so * so + perp_o * perp_o);
-    let ci = perp_i / ri;
-    let co = perp_o / ro;
-    let sin_i = si / ri;
-    let sin_o = so / ro;
-    var cos2_theta_d = 0.5 * (1.0 + ci * co + sin_i * sin_o);
-    if sin_i * sin_o < 0.0 {
-        let di = ci * ci / (1.0 + abs(sin_i));
-        let do_ = co * co / (1.0 + abs(sin_o));
-        cos2_theta_d = 0.5 * (di + do_ - di * do_ + ci * co);
-    }
-    cos2_theta_d = min(cos2_theta_d, 1.0);
-    let fresnel = cloth_resonant_fresnel(thread.material.x, thread.material.z != 0.0,
-        sqrt(cos2_theta_d) * cos_half_phi_d);
-
-    let bounded = shadowing_m * masking_p / cos2_theta_d;
-    let transmission = bounded * fresnel.y * (perp_i / (perp_i + perp_o));
-    let theta_h2 = theta_h * theta_h;
-    let kd = thread.material.y;
-    return vec4<f32>(
-        masking_p,
-        bounded * fresnel.x * cos_half_phi_d * thread.lobes.y * exp(theta_h2 * thread.lobes.x) * perp_i,
-        transmission * (1.0 - kd) * thread.lobes.w * exp(theta_h2 * thread.lobes.z),
-        transmission * kd);
+    var material: ClothSampleMaterial;
+    material.lobes = thread.lobes;
+    material.eta = thread.material.x;
+    material.kd = thread.material.y;
+    material.no_interface = thread.material.z;
+    material.k_u = CLOTH_RESONANT_K_U;
+    material.threshold = CLOTH_RESONANT_THRESHOLD;
+    return cloth_sample_terms(p.s, material, cos(alpha), sin(alpha));
 }
 
 // A flat piece: its whole share `weight` at α, every term, if α is inside the facing window.

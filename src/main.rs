@@ -44,15 +44,8 @@ enum Command {
         /// Paper mode: N stratified samples per thread (alone, it selects paper mode).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
         samples: Option<u32>,
-        /// Resonant quadrature: Gauss–Legendre nodes per segment on the surface lobe.
-        #[arg(long, value_parser = resonant_count)]
-        surface_nodes: Option<u32>,
-        /// Resonant quadrature: nodes per segment on the volume lobe.
-        #[arg(long, value_parser = resonant_count)]
-        volume_nodes: Option<u32>,
-        /// Resonant quadrature: nodes per segment for ⟨P⟩ and the kd term.
-        #[arg(long, value_parser = resonant_count)]
-        base_nodes: Option<u32>,
+        #[command(flatten)]
+        nodes: NodeArgs,
         /// Fabric file (TOML) to use instead of the built-in fabrics.
         #[arg(long)]
         fabrics: Option<PathBuf>,
@@ -140,15 +133,8 @@ enum Command {
         /// Tangent samples per thread of --shader direct (default 32).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
         samples: Option<u32>,
-        /// --shader resonant: Gauss–Legendre nodes per segment on the surface lobe (default 7).
-        #[arg(long, value_parser = resonant_count)]
-        surface_nodes: Option<u32>,
-        /// --shader resonant: nodes per segment on the volume lobe (default 5).
-        #[arg(long, value_parser = resonant_count)]
-        volume_nodes: Option<u32>,
-        /// --shader resonant: nodes per segment for ⟨P⟩ and the kd term (default 3).
-        #[arg(long, value_parser = resonant_count)]
-        base_nodes: Option<u32>,
+        #[command(flatten)]
+        nodes: NodeArgs,
         /// Also render the view on the CPU by direct evaluation: writes STEM-reference.png and
         /// STEM-error.png and prints the image error.
         #[arg(long)]
@@ -229,22 +215,54 @@ enum IntegrationArg {
     Resonant,
 }
 
+/// The resonant quadrature's node counts (`eval --integration resonant`,
+/// `render --shader resonant`); each defaults to `ResonantNodes::DEFAULT`'s.
+#[derive(clap::Args)]
+struct NodeArgs {
+    /// Resonant quadrature: Gauss–Legendre nodes per curve segment on the surface lobe.
+    #[arg(long, value_parser = resonant_count)]
+    surface_nodes: Option<u32>,
+    /// Resonant quadrature: nodes per segment on the volume lobe.
+    #[arg(long, value_parser = resonant_count)]
+    volume_nodes: Option<u32>,
+    /// Resonant quadrature: nodes per segment for ⟨P⟩ and the kd term.
+    #[arg(long, value_parser = resonant_count)]
+    base_nodes: Option<u32>,
+}
+
+impl NodeArgs {
+    /// The node counts, or an error naming `selector` when any is given but `selected` is
+    /// false (the options belong to the resonant rule only).
+    fn nodes(&self, selected: bool, selector: &str) -> Result<ResonantNodes, String> {
+        let given = [self.surface_nodes, self.volume_nodes, self.base_nodes];
+        if !selected && given.iter().any(Option::is_some) {
+            return Err(format!(
+                "--surface-nodes, --volume-nodes and --base-nodes apply to {selector}"
+            ));
+        }
+        let d = ResonantNodes::DEFAULT;
+        Ok(ResonantNodes {
+            surface: self.surface_nodes.unwrap_or(d.surface),
+            volume: self.volume_nodes.unwrap_or(d.volume),
+            base: self.base_nodes.unwrap_or(d.base),
+        })
+    }
+}
+
 /// The integration rule that `eval`'s options select; names the option that does not fit.
 fn integration_rule(
     integration: Option<IntegrationArg>,
     samples: Option<u32>,
-    nodes: [Option<u32>; 3],
+    nodes: &NodeArgs,
 ) -> Result<Integration, String> {
     let integration = integration.unwrap_or(match samples {
         Some(_) => IntegrationArg::Paper,
         None => IntegrationArg::Direct,
     });
-    if integration != IntegrationArg::Resonant && nodes.iter().any(Option::is_some) {
-        return Err(
-            "--surface-nodes, --volume-nodes and --base-nodes apply to --integration resonant"
-                .into(),
-        );
-    }
+    let nodes = nodes.nodes(
+        integration == IntegrationArg::Resonant,
+        "--integration resonant",
+    )?;
     match integration {
         IntegrationArg::Direct if samples.is_some() => {
             Err("--samples applies to paper mode, not --integration direct".into())
@@ -256,14 +274,7 @@ fn integration_rule(
         IntegrationArg::Resonant if samples.is_some() => {
             Err("--samples applies to paper mode, not --integration resonant".into())
         }
-        IntegrationArg::Resonant => {
-            let d = ResonantNodes::DEFAULT;
-            Ok(Integration::Resonant(ResonantNodes {
-                surface: nodes[0].unwrap_or(d.surface),
-                volume: nodes[1].unwrap_or(d.volume),
-                base: nodes[2].unwrap_or(d.base),
-            }))
-        }
+        IntegrationArg::Resonant => Ok(Integration::Resonant(nodes)),
     }
 }
 
@@ -306,17 +317,11 @@ fn run(cli: Cli) -> Result<(), String> {
             fabric,
             integration,
             samples,
-            surface_nodes,
-            volume_nodes,
-            base_nodes,
+            nodes,
             fabrics,
             table,
         } => {
-            let integration = integration_rule(
-                integration,
-                samples,
-                [surface_nodes, volume_nodes, base_nodes],
-            )?;
+            let integration = integration_rule(integration, samples, &nodes)?;
             let set = FabricSet::load_or_builtin(fabrics.as_deref()).map_err(|e| e.to_string())?;
             let fabric = set.require(&fabric)?;
             let patch = Patch::new(fabric, integration);
@@ -443,33 +448,16 @@ fn run(cli: Cli) -> Result<(), String> {
             frames,
             shader,
             samples,
-            surface_nodes,
-            volume_nodes,
-            base_nodes,
+            nodes,
             reference,
         } => {
-            let nodes = [surface_nodes, volume_nodes, base_nodes];
-            if shader != RenderShaderArg::Resonant && nodes.iter().any(Option::is_some) {
-                return Err(
-                    "--surface-nodes, --volume-nodes and --base-nodes apply to --shader resonant"
-                        .into(),
-                );
-            }
+            let nodes = nodes.nodes(shader == RenderShaderArg::Resonant, "--shader resonant")?;
             let shader = match (shader, samples) {
                 (RenderShaderArg::Direct, n) => render::job::Shader::Direct {
                     samples: n.unwrap_or(clothbake::gpu::direct::DEFAULT_SAMPLES),
                 },
                 (_, Some(_)) => return Err("--samples applies to --shader direct only".into()),
-                (RenderShaderArg::Resonant, None) => {
-                    let d = ResonantNodes::DEFAULT;
-                    render::job::Shader::Resonant {
-                        nodes: ResonantNodes {
-                            surface: surface_nodes.unwrap_or(d.surface),
-                            volume: volume_nodes.unwrap_or(d.volume),
-                            base: base_nodes.unwrap_or(d.base),
-                        },
-                    }
-                }
+                (RenderShaderArg::Resonant, None) => render::job::Shader::Resonant { nodes },
                 (RenderShaderArg::Lookup, None) => render::job::Shader::Lookup,
                 (RenderShaderArg::Constant, None) => render::job::Shader::Constant,
             };

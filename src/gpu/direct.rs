@@ -231,7 +231,7 @@ impl GpuDirect {
 
 impl GpuBrdf for GpuDirect {
     fn wgsl(&self) -> String {
-        DIRECT_WGSL.to_string()
+        format!("{}\n{DIRECT_WGSL}", super::SAMPLE_WGSL)
     }
 
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {

@@ -31,6 +31,11 @@ use glam::Vec3;
 use std::fmt;
 use wgpu::util::DeviceExt;
 
+/// One tangent sample of the model in f32 (`ThreadModel::pair_frame` and
+/// `ThreadModel::sample`), shared by the shaders that evaluate the model itself:
+/// [`GpuDirect`] and [`GpuResonant`] prepend it to their modules.
+pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
+
 /// The compute entry point that [`evaluate_pairs`] appends to a [`GpuBrdf`]'s WGSL.
 pub const EVAL_PAIRS_WGSL: &str = include_str!("../../shaders/eval_pairs.wgsl");
 

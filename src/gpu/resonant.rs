@@ -110,6 +110,8 @@ pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
         thread_wgsl(w, fabric, thread, j, nodes);
     }
     out.push('\n');
+    out.push_str(super::SAMPLE_WGSL);
+    out.push('\n');
     out.push_str(RESONANT_WGSL);
     out
 }
