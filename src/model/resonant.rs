@@ -255,13 +255,13 @@ struct Terms {
     base: bool,
 }
 
-/// What one resonant evaluation of a thread cost.
+/// What one resonant evaluation of a thread cost: its kernel evaluations (tangent samples
+/// whose terms were computed). Placing the nodes costs besides, per clipped segment, θh and
+/// its slope at one point (two atan2), and per lobe node Φ⁻¹ and φ; the report's timings
+/// include all of it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ResonantCost {
-    /// Full kernel evaluations (tangent samples whose terms were computed).
     pub samples: usize,
-    /// Segments that needed θh and its slope at one point to place lobe nodes.
-    pub probes: usize,
 }
 
 /// The resonant rule of one thread, prepared once: its Gauss–Legendre rules and lobe widths.
@@ -352,7 +352,6 @@ impl ResonantRule {
         let &Segment {
             lo, hi, density, ..
         } = segment;
-        cost.probes += 1;
         let centre = resonant.clamp(lo, hi);
         let (theta_c, slope) = theta_h_and_slope(pair, centre.cos(), centre.sin());
         // Per lobe: on the base nodes (smooth over the segment), dropped, or its own nodes.
