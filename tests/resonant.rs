@@ -6,7 +6,6 @@ mod common;
 
 use clothbake::accuracy::{HIGHLIGHT_SEED, Reference, UNIFORM_SEED};
 use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
-use clothbake::model::patch::ThreadModel;
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use common::*;
 use glam::DVec3;
@@ -16,18 +15,9 @@ const DEFAULT: Integration = Integration::Resonant(ResonantNodes::DEFAULT);
 
 /// Mean and largest kernel evaluations per light (both threads) over `pairs`.
 fn evaluations(fabric: &Fabric, nodes: ResonantNodes, pairs: &[(DVec3, DVec3)]) -> (f64, usize) {
-    let threads = [0, 1].map(|j| ThreadModel::new(fabric, j, Integration::Resonant(nodes)));
-    let counts: Vec<usize> = pairs
-        .iter()
-        .map(|&(wi, wo)| {
-            threads
-                .iter()
-                .map(|t| t.resonant_means(wi, wo).expect("resonant rule").1.samples)
-                .sum()
-        })
-        .collect();
-    let mean = counts.iter().sum::<usize>() as f64 / counts.len() as f64;
-    (mean, counts.into_iter().max().unwrap_or(0))
+    Patch::new(fabric, Integration::Resonant(nodes))
+        .resonant_evaluations(pairs)
+        .expect("resonant rule")
 }
 
 /// Issue 10's target, checked at the default node counts on `check`'s 4,000 + 4,000 pairs:

@@ -332,6 +332,21 @@ impl Patch {
         &self.threads
     }
 
+    /// For the resonant rule, the mean and the largest number of kernel evaluations per light
+    /// (tangent samples of both threads) over `pairs`; `None` for the other rules.
+    pub fn resonant_evaluations(&self, pairs: &[(DVec3, DVec3)]) -> Option<(f64, usize)> {
+        let mut counts = Vec::with_capacity(pairs.len());
+        for &(wi, wo) in pairs {
+            let mut count = 0;
+            for thread in &self.threads {
+                count += thread.resonant_means(wi, wo)?.1.samples;
+            }
+            counts.push(count);
+        }
+        let mean = counts.iter().sum::<usize>() as f64 / counts.len().max(1) as f64;
+        Some((mean, counts.into_iter().max().unwrap_or(0)))
+    }
+
     /// `F` in the factored form [`PatchTerms`], for unit `wi`, `wo` in the patch frame.
     /// Zero below the horizon (one-sided cloth) and where `Q = 0`.
     pub fn terms(&self, wi: DVec3, wo: DVec3) -> PatchTerms {

@@ -161,14 +161,6 @@ impl GaussLegendre {
         }
         Self { nodes, weights }
     }
-
-    pub fn len(&self) -> usize {
-        self.nodes.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.nodes.is_empty()
-    }
 }
 
 /// The standard normal density φ(z).
@@ -309,7 +301,7 @@ impl ResonantRule {
     ) -> (ThreadMeans, ResonantCost) {
         let mut sums = ThreadMeans::default();
         let mut cost = ResonantCost::default();
-        let mut add = |alpha: f64, weight: f64, terms: Terms, cost: &mut ResonantCost| {
+        let mut add = |alpha: f64, weight: f64, terms: Terms| {
             cost.samples += 1;
             let (sin_a, cos_a) = alpha.sin_cos();
             if let Some(s) = model.sample(pair, cos_a, sin_a) {
@@ -321,7 +313,7 @@ impl ResonantRule {
         for &(piece, _, _) in model.pieces() {
             if piece.start == piece.end {
                 if piece.start > facing.0 && piece.start < facing.1 {
-                    add(piece.start, piece.weight, Terms::ALL, &mut cost);
+                    add(piece.start, piece.weight, Terms::ALL);
                 }
                 continue;
             }
@@ -335,7 +327,7 @@ impl ResonantRule {
                 density: piece.weight / (piece.end - piece.start),
                 cuts: &kinks,
             };
-            self.segment(&segment, resonant, pair, &mut cost, &mut add);
+            self.segment(&segment, resonant, pair, &mut add);
         }
         (sums, cost)
     }
@@ -346,14 +338,14 @@ impl ResonantRule {
         segment: &Segment,
         resonant: f64,
         pair: &PairInThreadFrame,
-        cost: &mut ResonantCost,
-        add: &mut impl FnMut(f64, f64, Terms, &mut ResonantCost),
+        add: &mut impl FnMut(f64, f64, Terms),
     ) {
         let &Segment {
             lo, hi, density, ..
         } = segment;
         let centre = resonant.clamp(lo, hi);
-        let (theta_c, slope) = theta_h_and_slope(pair, centre.cos(), centre.sin());
+        let (sin_c, cos_c) = centre.sin_cos();
+        let (theta_c, slope) = theta_h_and_slope(pair, cos_c, sin_c);
         // Per lobe: on the base nodes (smooth over the segment), dropped, or its own nodes.
         let mut on_base = [false; 2];
         for (lobe, n) in [self.nodes.surface, self.nodes.volume]
@@ -408,7 +400,7 @@ impl ResonantRule {
                     let alpha = centre + (sigma * zn - theta_c) / slope;
                     // dα = (σ/k) dz and dz = dt/φ(z).
                     let weight = density * w * (b - a) * sigma / (slope * normal_pdf(zn));
-                    add(alpha, weight, terms, cost);
+                    add(alpha, weight, terms);
                 }
             }
         }
@@ -432,7 +424,7 @@ impl ResonantRule {
         for (a, b) in parts(lo, hi, cuts.as_slice()) {
             let rule = self.rule(split_counts(count, (b - a) / (hi - lo)));
             for (&x, &w) in rule.nodes.iter().zip(&rule.weights) {
-                add(a + (b - a) * x, density * (b - a) * w, terms, cost);
+                add(a + (b - a) * x, density * (b - a) * w, terms);
             }
         }
     }

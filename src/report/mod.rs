@@ -34,7 +34,6 @@ pub mod timing;
 use crate::accuracy::{Reference, TableError};
 use crate::bake::{BakeError, bake};
 use crate::direction_sets::{highlight_pairs, uniform_pairs};
-use crate::model::patch::ThreadModel;
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::table::{Layout, Table};
 use glam::DVec3;
@@ -464,26 +463,6 @@ pub fn verdict(table: &TablePoint, paper: &[PaperPoint], resonant: &[ResonantPoi
     }
 }
 
-/// Mean and largest kernel evaluations per light of the resonant quadrature at `nodes` over
-/// `pairs`: the tangent samples both threads evaluate.
-fn evaluations_per_light(
-    fabric: &Fabric,
-    nodes: ResonantNodes,
-    pairs: &[(DVec3, DVec3)],
-) -> (f64, usize) {
-    let threads = [0, 1].map(|j| ThreadModel::new(fabric, j, Integration::Resonant(nodes)));
-    let (mut total, mut max) = (0usize, 0usize);
-    for &(wi, wo) in pairs {
-        let count: usize = threads
-            .iter()
-            .map(|t| t.resonant_means(wi, wo).map_or(0, |(_, cost)| cost.samples))
-            .sum();
-        total += count;
-        max = max.max(count);
-    }
-    (total as f64 / pairs.len().max(1) as f64, max)
-}
-
 /// Whether two tables hold bit-identical texels.
 fn identical(a: &Table, b: &Table) -> bool {
     a.planes().len() == b.planes().len()
@@ -544,8 +523,13 @@ fn measure_fabric(
         .map(|&nodes| {
             let patch = Patch::new(fabric, Integration::Resonant(nodes));
             let error = bake_pool.install(|| reference.measure(|wi, wo| patch.eval(wi, wo)));
-            let (uniform, max_uniform) = evaluations_per_light(fabric, nodes, &uniform_set);
-            let (highlight, max_highlight) = evaluations_per_light(fabric, nodes, &highlight_set);
+            let count = |pairs| {
+                patch
+                    .resonant_evaluations(pairs)
+                    .expect("a resonant patch counts its evaluations")
+            };
+            let (uniform, max_uniform) = count(&uniform_set);
+            let (highlight, max_highlight) = count(&highlight_set);
             let evaluations = EvaluationsPerLight {
                 uniform,
                 highlight,
