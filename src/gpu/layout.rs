@@ -24,6 +24,7 @@
 //! Texel values are the planes' f32 values, exactly representable in f16, so the upload is
 //! lossless.
 
+use super::wgsl_f32;
 use crate::table::axis::{Axis, Warp};
 use crate::table::thread_frame::{self, ThreadGeometry};
 use crate::table::{Geometry, Plane, Table};
@@ -54,9 +55,9 @@ pub fn lookup_wgsl(table: &Table) -> String {
             out,
             "const CLOTH_ALBEDO{} = vec3<f32>({}, {}, {});",
             j + 1,
-            lit(*r),
-            lit(*g),
-            lit(*b)
+            wgsl_f32(*r),
+            wgsl_f32(*g),
+            wgsl_f32(*b)
         );
     }
     let (section, brdf) = match table.geometry() {
@@ -72,9 +73,9 @@ pub fn lookup_wgsl(table: &Table) -> String {
             let _ = writeln!(
                 out,
                 "// Coverage (a1, a2, gap = 1 − a1 − a2).\nconst CLOTH_COVERAGE = vec3<f32>({}, {}, {});",
-                lit(geometry.coverage[0]),
-                lit(geometry.coverage[1]),
-                lit(geometry.gap)
+                wgsl_f32(geometry.coverage[0]),
+                wgsl_f32(geometry.coverage[1]),
+                wgsl_f32(geometry.gap)
             );
             for (j, thread) in geometry.threads.iter().enumerate() {
                 out += &thread_function(j, thread);
@@ -110,18 +111,6 @@ fn template_section(name: &str) -> &'static str {
     &rest[..rest.find("// @section ").unwrap_or(rest.len())]
 }
 
-/// A WGSL f32 literal of `v` rounded to f32: integers as `N.0`, others in the shortest
-/// exponent form that parses back to the same f32, with the `f` suffix (parsed directly as
-/// f32, no double rounding).
-fn lit(v: f64) -> String {
-    let v = v as f32;
-    if v == v.trunc() && v.abs() < 1e6 {
-        format!("{v:.1}")
-    } else {
-        format!("{v:e}f")
-    }
-}
-
 /// The swizzle taking a vector into a thread's own frame (x = t0, y = b, z = normal), if
 /// the frame is axis-aligned, else the expression with dot products.
 fn frame_expression(thread: &ThreadGeometry, w: &str) -> String {
@@ -130,7 +119,14 @@ fn frame_expression(thread: &ThreadGeometry, w: &str) -> String {
     } else if thread.t0 == DVec3::Y && thread.b == DVec3::X {
         format!("{w}.yxz")
     } else {
-        let v = |d: DVec3| format!("vec3<f32>({}, {}, {})", lit(d.x), lit(d.y), lit(d.z));
+        let v = |d: DVec3| {
+            format!(
+                "vec3<f32>({}, {}, {})",
+                wgsl_f32(d.x),
+                wgsl_f32(d.y),
+                wgsl_f32(d.z)
+            )
+        };
         format!(
             "vec3<f32>(dot({w}, {}), dot({w}, {}), {w}.z)",
             v(thread.t0),
@@ -149,24 +145,30 @@ fn texel_call(axis: &Axis, value: &str) -> (String, String) {
         Warp::Linear { lo, hi } => (
             format!(
                 "cloth_linear_texel({value}, {}, {}, {})",
-                lit(lo),
-                lit(last / (hi - lo)),
-                lit(last)
+                wgsl_f32(lo),
+                wgsl_f32(last / (hi - lo)),
+                wgsl_f32(last)
             ),
             format!("Linear [{lo:.6}, {hi:.6}], {} texels", axis.texels),
         ),
         Warp::Knots { xs, vs } => {
             let slopes: [f64; 3] =
                 std::array::from_fn(|k| (xs[k + 1] - xs[k]) * last / (vs[k + 1] - vs[k]));
-            let v3 =
-                |a: [f64; 3]| format!("vec3<f32>({}, {}, {})", lit(a[0]), lit(a[1]), lit(a[2]));
+            let v3 = |a: [f64; 3]| {
+                format!(
+                    "vec3<f32>({}, {}, {})",
+                    wgsl_f32(a[0]),
+                    wgsl_f32(a[1]),
+                    wgsl_f32(a[2])
+                )
+            };
             (
                 format!(
                     "cloth_knots_texel({value}, {}, {}, {}, {})",
                     v3([vs[0], vs[1], vs[2]]),
                     v3([xs[0] * last, xs[1] * last, xs[2] * last]),
                     v3(slopes),
-                    lit(last)
+                    wgsl_f32(last)
                 ),
                 format!("Knots xs {:.6?}, vs {:.6?}, {} texels", xs, vs, axis.texels),
             )
@@ -174,9 +176,9 @@ fn texel_call(axis: &Axis, value: &str) -> (String, String) {
         Warp::SinEnds { hi, k } => (
             format!(
                 "cloth_sin_ends_texel({value}, {}, {}, {})",
-                lit(k.sin() / hi),
-                lit(0.5 * last / k),
-                lit(last)
+                wgsl_f32(k.sin() / hi),
+                wgsl_f32(0.5 * last / k),
+                wgsl_f32(last)
             ),
             format!("SinEnds hi {hi:.6}, k {k}, {} texels", axis.texels),
         ),
@@ -218,11 +220,11 @@ fn thread_function(j: usize, thread: &ThreadGeometry) -> String {
         "    );\n    // ⟨P⟩ table over (βi, βo): {about} per axis.\n    \
          let gm = vec2<f32>(\n        {bi},\n        {bo},\n    );\n    \
          return cloth_sample_thread(cloth_thread{k}_table, {j}, g, vec4<f32>({}, {}, {}, {}), gm, {}, c.s);\n}}\n",
-        lit(n[0] as f64),
-        lit(n[1] as f64),
-        lit(n[2] as f64),
-        lit(n[3] as f64),
-        lit(thread.masking_axis.texels as f64),
+        wgsl_f32(n[0] as f64),
+        wgsl_f32(n[1] as f64),
+        wgsl_f32(n[2] as f64),
+        wgsl_f32(n[3] as f64),
+        wgsl_f32(thread.masking_axis.texels as f64),
         k = j + 1,
     );
     f
@@ -316,24 +318,6 @@ mod tests {
             })
             .collect();
         Table::new(layout, resolution, fabric, planes).expect("table")
-    }
-
-    #[test]
-    fn literals_round_trip_f32() {
-        for v in [
-            0.0,
-            1.0,
-            -3.0,
-            47.0,
-            std::f64::consts::FRAC_PI_2,
-            -1e-6,
-            0.1,
-            1.4f64.sin(),
-        ] {
-            let text = lit(v);
-            let parsed: f32 = text.trim_end_matches('f').parse().expect("literal");
-            assert_eq!(parsed, v as f32, "{text}");
-        }
     }
 
     #[test]

@@ -373,6 +373,19 @@ impl PairEvaluator {
     }
 }
 
+/// A WGSL f32 literal of `v` rounded to f32, for the constants of generated shaders:
+/// integers as `N.0`, others in the shortest exponent form that parses back to the same f32,
+/// with the `f` suffix (parsed directly as f32, no double rounding).
+pub(crate) fn wgsl_f32(v: f64) -> String {
+    let v = v as f32;
+    assert!(v.is_finite(), "non-finite shader constant {v}");
+    if v == v.trunc() && v.abs() < 1e6 {
+        format!("{v:.1}")
+    } else {
+        format!("{v:e}f")
+    }
+}
+
 /// A bind group layout entry of a [`GpuBrdf`] (visible to [`BRDF_VISIBILITY`]).
 pub(crate) fn brdf_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
@@ -380,5 +393,32 @@ pub(crate) fn brdf_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroup
         visibility: BRDF_VISIBILITY,
         ty,
         count: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::wgsl_f32;
+
+    #[test]
+    fn literals_round_trip_f32() {
+        for v in [
+            0.0,
+            1.0,
+            -3.0,
+            47.0,
+            std::f64::consts::FRAC_PI_2,
+            -1e-6,
+            0.1,
+            1.4f64.sin(),
+            1e-9,
+            0.15,
+            1.2345678e-20,
+        ] {
+            let text = wgsl_f32(v);
+            let parsed: f32 = text.trim_end_matches('f').parse().expect("literal");
+            assert_eq!(parsed, v as f32, "{text}");
+            assert!(text.contains('.') || text.contains('e'), "{text}");
+        }
     }
 }
