@@ -39,7 +39,6 @@
 mod common;
 use common::*;
 
-use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, evaluate_pairs};
 use clothbake::model::{Fabric, Integration, Patch};
 use glam::{DVec3, Vec3};
@@ -52,13 +51,6 @@ const LOBE_REACH: f64 = 6.0;
 const ATAN2_ARGUMENT_ERROR: f64 = 1.2e-7;
 /// Absolute floor relative to the largest |F| of the set (module doc).
 const FLOOR: f64 = 1e-7;
-
-fn to_f32(pairs: Vec<(DVec3, DVec3)>) -> Vec<(Vec3, Vec3)> {
-    pairs
-        .into_iter()
-        .map(|(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
-        .collect()
-}
 
 /// A `GpuBrdf` that returns the device's `atan2(wi.x, wi.y)`: for measuring its accuracy.
 struct Atan2Probe {
@@ -117,27 +109,9 @@ fn atan2_error(context: &GpuContext) -> f64 {
 
 /// The bound of the module doc for one fabric's set: (R, A).
 fn tolerance(fabric: &Fabric, atan2_error: f64, scale: f64) -> (f64, f64) {
-    let sigma_min = fabric
-        .threads()
-        .iter()
-        .flat_map(|t| [t.gamma_s_deg, t.gamma_v_deg])
-        .map(|g| fabric.options.lobe_sigma_deg(g).to_radians())
-        .fold(f64::INFINITY, f64::min);
-    let relative = BASE_RELATIVE + LOBE_REACH * (atan2_error + ATAN2_ARGUMENT_ERROR) / sigma_min;
+    let relative =
+        BASE_RELATIVE + LOBE_REACH * (atan2_error + ATAN2_ARGUMENT_ERROR) / sigma_min(fabric);
     (relative, FLOOR * scale)
-}
-
-/// Largest differences seen over a set of evaluations.
-#[derive(Default, Debug)]
-struct Stats {
-    count: usize,
-    nonzero: usize,
-    max_abs: f64,
-    max_rel: f64,
-    /// Largest |GPU − CPU| where |F| ≤ 1e-4.
-    max_abs_small: f64,
-    max_ratio: f64,
-    worst: String,
 }
 
 /// Evaluates `pairs` (named by `names` for the report) on both sides, prints the largest
@@ -150,10 +124,9 @@ fn compare(
     pairs: &[(Vec3, Vec3)],
     names: &[String],
     label: &str,
-) -> (Stats, Vec<String>) {
+) -> (GpuCpuStats, Vec<String>) {
     let gpu_brdf = GpuDirect::new(context, fabric, samples).expect("GpuDirect");
     let gpu = evaluate_pairs(context, &gpu_brdf, pairs).expect("GPU evaluation");
-    assert_eq!(gpu.len(), pairs.len());
     let patch = Patch::new(fabric, Integration::Paper(samples));
     let cpu: Vec<DVec3> = pairs
         .iter()
@@ -163,55 +136,9 @@ fn compare(
         .iter()
         .map(|f| f.abs().max_element())
         .fold(0.0, f64::max);
-    let (relative, absolute) = tolerance(fabric, atan2_error, scale);
-    let mut stats = Stats::default();
-    let mut failures = Vec::new();
-    for (k, ((&(wi, wo), g), cpu)) in pairs.iter().zip(&gpu).zip(&cpu).enumerate() {
-        let gpu = DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64);
-        stats.count += 1;
-        stats.nonzero += (cpu.max_element() > 0.0) as usize;
-        for c in 0..3 {
-            let diff = (gpu[c] - cpu[c]).abs();
-            let bound = relative * cpu[c].abs() + absolute;
-            stats.max_abs = stats.max_abs.max(diff);
-            if cpu[c].abs() > 1e-4 {
-                stats.max_rel = stats.max_rel.max(diff / cpu[c].abs());
-            } else {
-                stats.max_abs_small = stats.max_abs_small.max(diff);
-            }
-            let ratio = diff / bound;
-            if ratio > stats.max_ratio || ratio.is_nan() {
-                stats.max_ratio = stats.max_ratio.max(ratio);
-                stats.worst = format!(
-                    "{} channel {c}: GPU {} CPU {} wi {wi} wo {wo}",
-                    names[k], gpu[c], cpu[c]
-                );
-            }
-            // A NaN on the GPU fails too.
-            let within = diff <= bound;
-            if !within && failures.len() < 10 {
-                failures.push(format!(
-                    "{label}: {} wi {wi} wo {wo}: channel {c} GPU {} CPU {} diff {diff:e} \
-                     bound {bound:e}",
-                    names[k], gpu[c], cpu[c]
-                ));
-            }
-        }
-    }
-    println!(
-        "{label} ({}): {} pairs ({} with F > 0), max |GPU−CPU| {:.3e}, max relative {:.3e} \
-         (where |F| > 1e-4), max |GPU−CPU| {:.3e} where |F| ≤ 1e-4; bound R {relative:.2e}, \
-         A {absolute:.2e}, max diff/bound {:.3}; worst: {}",
-        gpu_brdf.label(),
-        stats.count,
-        stats.nonzero,
-        stats.max_abs,
-        stats.max_rel,
-        stats.max_abs_small,
-        stats.max_ratio,
-        stats.worst
-    );
-    (stats, failures)
+    let label = format!("{label} ({})", gpu_brdf.label());
+    let bound = tolerance(fabric, atan2_error, scale);
+    compare_gpu_cpu(pairs, names, &gpu, &cpu, bound, &label)
 }
 
 /// A GPU context and the device's measured `atan2` error, printed.
@@ -227,12 +154,7 @@ fn builtin_fabrics_match_cpu_paper_mode() {
     let (context, atan2_error) = setup();
     let mut failures = Vec::new();
     for (f, fabric) in common::builtin().iter().enumerate() {
-        let seed = 100 + 10 * f as u64;
-        let mut pairs = to_f32(uniform_pairs(1500, seed));
-        pairs.extend(to_f32(highlight_pairs(fabric, 1500, seed + 1)));
-        let names: Vec<String> = (0..pairs.len())
-            .map(|k| if k < 1500 { "uniform" } else { "highlight" }.to_string())
-            .collect();
+        let (pairs, names) = f32_validation_pairs(fabric, 1500, 100 + 10 * f as u64);
         for samples in [1, 8, 32] {
             let label = format!("{} N={samples}", fabric.name);
             let (stats, failed) = compare(
@@ -261,31 +183,11 @@ fn builtin_fabrics_match_cpu_paper_mode() {
 #[test]
 fn hard_cases_match_cpu_paper_mode() {
     let (context, atan2_error) = setup();
-    let cases = common::hard_cases();
-    let mut fabrics: Vec<Fabric> = Vec::new();
-    for case in &cases {
-        if !fabrics.iter().any(|f| f.name == case.fabric.name) {
-            fabrics.push(case.fabric.clone());
-        }
-    }
     let mut failures = Vec::new();
-    for fabric in &fabrics {
-        let (pairs, names): (Vec<_>, Vec<_>) = cases
-            .iter()
-            .filter(|c| c.fabric.name == fabric.name)
-            .map(|c| ((c.wi.as_vec3(), c.wo.as_vec3()), c.name.clone()))
-            .unzip();
+    for (fabric, pairs, names) in &f32_hard_cases_by_fabric() {
         for samples in [1, 8, 32] {
             let label = format!("hard cases {} N={samples}", fabric.name);
-            let (_, failed) = compare(
-                &context,
-                atan2_error,
-                fabric,
-                samples,
-                &pairs,
-                &names,
-                &label,
-            );
+            let (_, failed) = compare(&context, atan2_error, fabric, samples, pairs, names, &label);
             failures.extend(failed);
         }
     }

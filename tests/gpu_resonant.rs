@@ -44,7 +44,6 @@
 mod common;
 use common::*;
 
-use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::gpu::{GpuBrdf, GpuContext, GpuResonant, evaluate_pairs};
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use glam::{DVec3, Vec3};
@@ -59,25 +58,6 @@ const LOBE_REACH: f64 = 12.0;
 const THETA_ERROR: f64 = 5e-6 + 1.2e-7;
 /// Absolute floor relative to the largest |F| of the set.
 const FLOOR: f64 = 1e-7;
-
-/// Direction pairs in f32, as the shader receives them.
-type Pairs = Vec<(Vec3, Vec3)>;
-
-fn to_f32(pairs: Vec<(DVec3, DVec3)>) -> Vec<(Vec3, Vec3)> {
-    pairs
-        .into_iter()
-        .map(|(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
-        .collect()
-}
-
-fn sigma_min(fabric: &Fabric) -> f64 {
-    fabric
-        .threads()
-        .iter()
-        .flat_map(|t| [t.gamma_s_deg, t.gamma_v_deg])
-        .map(|g| fabric.options.lobe_sigma_deg(g).to_radians())
-        .fold(f64::INFINITY, f64::min)
-}
 
 /// A fabric with every awkward curve feature: thread 1 has flat segments holding point
 /// weights, a zero-length jump and γ = 0.01°; thread 2 is a single control point.
@@ -96,17 +76,6 @@ fn custom_fabric() -> Fabric {
     f
 }
 
-#[derive(Default, Debug)]
-struct Stats {
-    count: usize,
-    nonzero: usize,
-    max_abs: f64,
-    max_rel: f64,
-    max_ratio: f64,
-    rms: f64,
-    worst: String,
-}
-
 /// Evaluates `pairs` with the GPU and CPU resonant rules, prints the differences and returns
 /// the failures.
 fn compare(
@@ -116,81 +85,21 @@ fn compare(
     pairs: &[(Vec3, Vec3)],
     names: &[String],
     label: &str,
-) -> (Stats, Vec<String>) {
+) -> (GpuCpuStats, Vec<String>) {
     let brdf = GpuResonant::new(context, fabric, nodes).expect("GpuResonant");
     let gpu = evaluate_pairs(context, &brdf, pairs).expect("GPU evaluation");
-    assert_eq!(gpu.len(), pairs.len());
     let patch = Patch::new(fabric, Integration::Resonant(nodes));
     let cpu: Vec<DVec3> = pairs
         .iter()
         .map(|(wi, wo)| patch.eval(wi.as_dvec3(), wo.as_dvec3()))
-        .collect();
-    let gpu: Vec<DVec3> = gpu
-        .iter()
-        .map(|g| DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64))
         .collect();
     let scale = cpu
         .iter()
         .map(|f| f.abs().max_element())
         .fold(0.0, f64::max);
     let relative = BASE_RELATIVE + LOBE_REACH * THETA_ERROR / sigma_min(fabric);
-    let absolute = FLOOR * scale;
-    let mut stats = Stats {
-        rms: relative_rms(&gpu, &cpu),
-        ..Default::default()
-    };
-    let mut failures = Vec::new();
-    for (k, ((&(wi, wo), gpu), cpu)) in pairs.iter().zip(&gpu).zip(&cpu).enumerate() {
-        stats.count += 1;
-        stats.nonzero += (cpu.max_element() > 0.0) as usize;
-        for c in 0..3 {
-            let diff = (gpu[c] - cpu[c]).abs();
-            let bound = relative * cpu[c].abs() + absolute;
-            stats.max_abs = stats.max_abs.max(diff);
-            if cpu[c].abs() > 1e-4 {
-                stats.max_rel = stats.max_rel.max(diff / cpu[c].abs());
-            }
-            let ratio = diff / bound;
-            if ratio > stats.max_ratio || ratio.is_nan() || !gpu[c].is_finite() {
-                stats.max_ratio = stats.max_ratio.max(ratio);
-                stats.worst = format!(
-                    "{} channel {c}: GPU {} CPU {} wi {wi} wo {wo}",
-                    names[k], gpu[c], cpu[c]
-                );
-            }
-            let ok = gpu[c].is_finite() && gpu[c] >= 0.0 && diff <= bound;
-            if !ok && failures.len() < 10 {
-                failures.push(format!(
-                    "{label}: {} wi {wi} wo {wo}: channel {c} GPU {} CPU {} diff {diff:e} \
-                     bound {bound:e}",
-                    names[k], gpu[c], cpu[c]
-                ));
-            }
-        }
-    }
-    println!(
-        "{label} ({}): {} pairs ({} with F > 0), max |GPU−CPU| {:.3e}, max relative {:.3e} \
-         (|F| > 1e-4), relative RMS {:.3e}; bound R {relative:.2e}, A {absolute:.2e}, max \
-         diff/bound {:.3}; worst: {}",
-        brdf.label(),
-        stats.count,
-        stats.nonzero,
-        stats.max_abs,
-        stats.max_rel,
-        stats.rms,
-        stats.max_ratio,
-        stats.worst
-    );
-    (stats, failures)
-}
-
-fn set_pairs(fabric: &Fabric, seed: u64) -> (Vec<(Vec3, Vec3)>, Vec<String>) {
-    let mut pairs = to_f32(uniform_pairs(1500, seed));
-    pairs.extend(to_f32(highlight_pairs(fabric, 1500, seed + 1)));
-    let names = (0..pairs.len())
-        .map(|k| if k < 1500 { "uniform" } else { "highlight" }.to_string())
-        .collect();
-    (pairs, names)
+    let label = format!("{label} ({})", brdf.label());
+    compare_gpu_cpu(pairs, names, &gpu, &cpu, (relative, FLOOR * scale), &label)
 }
 
 #[test]
@@ -198,7 +107,7 @@ fn builtin_fabrics_match_cpu_resonant() {
     let context = gpu_context();
     let mut failures = Vec::new();
     for (f, fabric) in builtin().iter().enumerate() {
-        let (pairs, names) = set_pairs(fabric, 300 + 10 * f as u64);
+        let (pairs, names) = f32_validation_pairs(fabric, 1500, 300 + 10 * f as u64);
         for nodes in [
             ResonantNodes::DEFAULT,
             ResonantNodes {
@@ -223,22 +132,9 @@ fn builtin_fabrics_match_cpu_resonant() {
 #[test]
 fn hard_cases_and_custom_fabric_match_cpu_resonant() {
     let context = gpu_context();
-    let mut cases: Vec<(Fabric, Pairs, Vec<String>)> = Vec::new();
-    for case in hard_cases() {
-        let pair = (case.wi.as_vec3(), case.wo.as_vec3());
-        match cases
-            .iter_mut()
-            .find(|(f, _, _)| f.name == case.fabric.name)
-        {
-            Some((_, pairs, names)) => {
-                pairs.push(pair);
-                names.push(case.name);
-            }
-            None => cases.push((case.fabric, vec![pair], vec![case.name])),
-        }
-    }
+    let mut cases = f32_hard_cases_by_fabric();
     let custom = custom_fabric();
-    let (mut pairs, mut names) = set_pairs(&custom, 900);
+    let (mut pairs, mut names) = f32_validation_pairs(&custom, 1500, 900);
     for (wi, wo) in hemisphere_sweep().iter().step_by(7).flat_map(|&a| {
         hemisphere_sweep()
             .into_iter()
@@ -273,7 +169,7 @@ fn hard_cases_and_custom_fabric_match_cpu_resonant() {
 fn gpu_resonant_is_close_to_cpu_direct() {
     let context = gpu_context();
     for (f, fabric) in builtin().iter().enumerate() {
-        let (pairs, _) = set_pairs(fabric, 500 + 10 * f as u64);
+        let (pairs, _) = f32_validation_pairs(fabric, 1500, 500 + 10 * f as u64);
         let brdf = GpuResonant::new(&context, fabric, ResonantNodes::DEFAULT).unwrap();
         let gpu: Vec<DVec3> = evaluate_pairs(&context, &brdf, &pairs)
             .unwrap()

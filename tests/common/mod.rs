@@ -2,10 +2,11 @@
 //! hard cases that every stability test runs.
 #![allow(dead_code)] // each test binary uses a different subset
 
+use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::fabric_file::FabricSet;
 use clothbake::gpu::GpuContext;
 use clothbake::model::{Fabric, Thread};
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
@@ -78,6 +79,146 @@ pub fn relative_rms(values: &[DVec3], reference: &[DVec3]) -> f64 {
         .sum();
     let norm: f64 = reference.iter().map(|r| r.length_squared()).sum();
     (err / norm).sqrt()
+}
+
+/// The narrowest lobe standard deviation of `fabric` (surface or volume, either thread), in
+/// radians: where an error in θh weighs most.
+pub fn sigma_min(fabric: &Fabric) -> f64 {
+    fabric
+        .threads()
+        .iter()
+        .flat_map(|t| [t.gamma_s_deg, t.gamma_v_deg])
+        .map(|g| fabric.options.lobe_sigma_deg(g).to_radians())
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// `count` uniform then `count` highlight pairs of `fabric` rounded to f32 as a shader
+/// receives them, and their set names.
+pub fn f32_validation_pairs(
+    fabric: &Fabric,
+    count: usize,
+    seed: u64,
+) -> (Vec<(Vec3, Vec3)>, Vec<String>) {
+    let to_f32 = |(wi, wo): (DVec3, DVec3)| (wi.as_vec3(), wo.as_vec3());
+    let mut pairs: Vec<(Vec3, Vec3)> = uniform_pairs(count, seed).into_iter().map(to_f32).collect();
+    pairs.extend(
+        highlight_pairs(fabric, count, seed + 1)
+            .into_iter()
+            .map(to_f32),
+    );
+    let names = (0..pairs.len())
+        .map(|k| if k < count { "uniform" } else { "highlight" }.to_string())
+        .collect();
+    (pairs, names)
+}
+
+/// A fabric with direction pairs rounded to f32, as a shader receives them, and their names.
+pub type F32Cases = (Fabric, Vec<(Vec3, Vec3)>, Vec<String>);
+
+/// The curated hard cases grouped by fabric, pairs rounded to f32.
+pub fn f32_hard_cases_by_fabric() -> Vec<F32Cases> {
+    let mut groups: Vec<F32Cases> = Vec::new();
+    for case in hard_cases() {
+        let pair = (case.wi.as_vec3(), case.wo.as_vec3());
+        match groups
+            .iter_mut()
+            .find(|(f, _, _)| f.name == case.fabric.name)
+        {
+            Some((_, pairs, names)) => {
+                pairs.push(pair);
+                names.push(case.name);
+            }
+            None => groups.push((case.fabric, vec![pair], vec![case.name])),
+        }
+    }
+    groups
+}
+
+/// Largest differences of a GPU evaluation against the CPU's over a set of pairs.
+#[derive(Default, Debug)]
+pub struct GpuCpuStats {
+    pub count: usize,
+    /// Pairs where the CPU's F is not 0.
+    pub nonzero: usize,
+    pub max_abs: f64,
+    /// Largest relative difference where |F| > 1e-4.
+    pub max_rel: f64,
+    /// Largest |GPU − CPU| where |F| ≤ 1e-4.
+    pub max_abs_small: f64,
+    /// Relative RMS of the GPU values against the CPU's.
+    pub rms: f64,
+    /// Largest difference over its bound.
+    pub max_ratio: f64,
+    pub worst: String,
+}
+
+/// Compares `gpu` (as `clothbake::gpu::evaluate_pairs` returns it) with `cpu` pair by pair
+/// and channel by channel: each must be finite, ≥ 0 and within `relative`·|F| + `absolute`
+/// of the CPU's. Prints one line headed `label` and returns the statistics and up to ten
+/// failures, named by `names`.
+pub fn compare_gpu_cpu(
+    pairs: &[(Vec3, Vec3)],
+    names: &[String],
+    gpu: &[[f32; 3]],
+    cpu: &[DVec3],
+    (relative, absolute): (f64, f64),
+    label: &str,
+) -> (GpuCpuStats, Vec<String>) {
+    assert_eq!(gpu.len(), pairs.len());
+    let gpu: Vec<DVec3> = gpu
+        .iter()
+        .map(|g| DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64))
+        .collect();
+    let mut stats = GpuCpuStats {
+        rms: relative_rms(&gpu, cpu),
+        ..Default::default()
+    };
+    let mut failures = Vec::new();
+    for (k, ((&(wi, wo), gpu), cpu)) in pairs.iter().zip(&gpu).zip(cpu).enumerate() {
+        stats.count += 1;
+        stats.nonzero += (cpu.max_element() > 0.0) as usize;
+        for c in 0..3 {
+            let diff = (gpu[c] - cpu[c]).abs();
+            let bound = relative * cpu[c].abs() + absolute;
+            stats.max_abs = stats.max_abs.max(diff);
+            if cpu[c].abs() > 1e-4 {
+                stats.max_rel = stats.max_rel.max(diff / cpu[c].abs());
+            } else {
+                stats.max_abs_small = stats.max_abs_small.max(diff);
+            }
+            let ratio = diff / bound;
+            if ratio > stats.max_ratio || ratio.is_nan() || !gpu[c].is_finite() {
+                stats.max_ratio = stats.max_ratio.max(ratio);
+                stats.worst = format!(
+                    "{} channel {c}: GPU {} CPU {} wi {wi} wo {wo}",
+                    names[k], gpu[c], cpu[c]
+                );
+            }
+            // A NaN on the GPU fails too (the comparison is false).
+            let ok = gpu[c].is_finite() && gpu[c] >= 0.0 && diff <= bound;
+            if !ok && failures.len() < 10 {
+                failures.push(format!(
+                    "{label}: {} wi {wi} wo {wo}: channel {c} GPU {} CPU {} diff {diff:e} \
+                     bound {bound:e}",
+                    names[k], gpu[c], cpu[c]
+                ));
+            }
+        }
+    }
+    println!(
+        "{label}: {} pairs ({} with F > 0), max |GPU−CPU| {:.3e}, max relative {:.3e} (where \
+         |F| > 1e-4), max |GPU−CPU| {:.3e} where |F| ≤ 1e-4, relative RMS {:.3e}; bound R \
+         {relative:.2e}, A {absolute:.2e}, max diff/bound {:.3}; worst: {}",
+        stats.count,
+        stats.nonzero,
+        stats.max_abs,
+        stats.max_rel,
+        stats.max_abs_small,
+        stats.rms,
+        stats.max_ratio,
+        stats.worst
+    );
+    (stats, failures)
 }
 
 /// One numerically hard evaluation: a fabric (built-in or a stressed variant) and a pair.
