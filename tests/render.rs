@@ -136,37 +136,55 @@ fn render_is_not_blank_and_changes_when_the_light_moves() {
     );
 }
 
+/// Renders `fabric` with `brdf` and shades the same G-buffer pixels on the CPU with
+/// `integration`, the rule `brdf` evaluates; asserts the two agree (see the callers).
+fn assert_render_matches_cpu(
+    context: &GpuContext,
+    fabric: &Fabric,
+    brdf: &dyn GpuBrdf,
+    integration: Integration,
+) {
+    let settings = settings();
+    let mut headless = Headless::new(context, &mesh(), brdf, SIDE, SIDE).unwrap();
+    let gpu = headless.render(context, &settings, 1).unwrap().linear;
+    let gbuffer = headless.gbuffer(context, &settings).unwrap();
+    let patch = Patch::new(fabric, integration);
+    let cpu = reference::shade(&gbuffer, &settings, &patch);
+    let error = image_error(&gpu, &cpu, settings.exposure).unwrap();
+    let name = &fabric.name;
+    println!(
+        "{name}: {} on the GPU against the CPU: relative L2 {:.2e}, PSNR {:.1} dB, {} pixels, \
+         {} differ in coverage",
+        brdf.label(),
+        error.relative_l2,
+        error.psnr_db,
+        error.covered,
+        error.coverage_mismatch
+    );
+    assert!(error.covered > 1000);
+    assert_eq!(error.coverage_mismatch, 0);
+    // Measured on lavapipe: 3e-6 to 8e-6 for both shaders (f32 against f64); 1e-4 leaves
+    // room for other devices' transcendental functions while catching any modelling
+    // difference.
+    assert!(
+        error.relative_l2 < 1e-4,
+        "{name}: GPU render ({}) differs from the CPU by {:.2e} (relative L2)",
+        brdf.label(),
+        error.relative_l2
+    );
+}
+
 #[test]
 fn direct_shader_render_equals_cpu_paper_mode_shading_of_the_same_pixels() {
     // The render pass and the CPU shade the same G-buffer pixels with the same paper-mode F,
     // so the difference is f32 arithmetic alone (frame, directions, irradiance, F): a wrong
     // frame, light or falloff shows up as percent-level differences.
     let context = gpu_context();
-    let settings = settings();
     for name in ["polyester_satin_charmeuse", "velvet"] {
         let fabric = FabricSet::builtin().get(name).unwrap().clone();
         let samples = 8;
         let brdf = GpuDirect::new(&context, &fabric, samples).unwrap();
-        let mut headless = Headless::new(&context, &mesh(), &brdf, SIDE, SIDE).unwrap();
-        let gpu = headless.render(&context, &settings, 1).unwrap().linear;
-        let gbuffer = headless.gbuffer(&context, &settings).unwrap();
-        let patch = Patch::new(&fabric, Integration::Paper(samples));
-        let cpu = reference::shade(&gbuffer, &settings, &patch);
-        let error = image_error(&gpu, &cpu, settings.exposure).unwrap();
-        println!(
-            "{name}: direct N={samples} on the GPU against the CPU: relative L2 {:.2e}, \
-             PSNR {:.1} dB, {} pixels, {} differ in coverage",
-            error.relative_l2, error.psnr_db, error.covered, error.coverage_mismatch
-        );
-        assert!(error.covered > 1000);
-        assert_eq!(error.coverage_mismatch, 0);
-        // Measured on lavapipe: 3e-6 to 8e-6 (f32 against f64); 1e-4 leaves room for other
-        // devices' transcendental functions while catching any modelling difference.
-        assert!(
-            error.relative_l2 < 1e-4,
-            "{name}: GPU direct render differs from the CPU by {:.2e} (relative L2)",
-            error.relative_l2
-        );
+        assert_render_matches_cpu(&context, &fabric, &brdf, Integration::Paper(samples));
     }
 }
 
@@ -174,33 +192,13 @@ fn direct_shader_render_equals_cpu_paper_mode_shading_of_the_same_pixels() {
 fn resonant_shader_render_equals_cpu_resonant_shading_of_the_same_pixels() {
     // As for the direct shader: the same G-buffer pixels shaded with the same resonant rule
     // on both sides, so the difference is f32 arithmetic (tests/gpu_resonant.rs bounds it per
-    // pair: relative RMS ≤ 9e-6 on highlight pairs).
+    // pair: relative RMS ≤ 1e-5).
     let context = gpu_context();
-    let settings = settings();
     for name in ["polyester_satin_charmeuse", "velvet"] {
         let fabric = FabricSet::builtin().get(name).unwrap().clone();
         let nodes = ResonantNodes::DEFAULT;
         let brdf = GpuResonant::new(&context, &fabric, nodes).unwrap();
-        let mut headless = Headless::new(&context, &mesh(), &brdf, SIDE, SIDE).unwrap();
-        let gpu = headless.render(&context, &settings, 1).unwrap().linear;
-        let gbuffer = headless.gbuffer(&context, &settings).unwrap();
-        let patch = Patch::new(&fabric, Integration::Resonant(nodes));
-        let cpu = reference::shade(&gbuffer, &settings, &patch);
-        let error = image_error(&gpu, &cpu, settings.exposure).unwrap();
-        println!(
-            "{name}: resonant {nodes} on the GPU against the CPU: relative L2 {:.2e}, \
-             PSNR {:.1} dB, {} pixels, {} differ in coverage",
-            error.relative_l2, error.psnr_db, error.covered, error.coverage_mismatch
-        );
-        assert!(error.covered > 1000);
-        assert_eq!(error.coverage_mismatch, 0);
-        // Measured on lavapipe (Vulkan): 7.6e-6 (satin) and 3.3e-6 (velvet), as the direct
-        // shader; its bound (1e-4) leaves room for other devices' transcendental functions.
-        assert!(
-            error.relative_l2 < 1e-4,
-            "{name}: GPU resonant render differs from the CPU by {:.2e} (relative L2)",
-            error.relative_l2
-        );
+        assert_render_matches_cpu(&context, &fabric, &brdf, Integration::Resonant(nodes));
     }
 }
 
