@@ -488,8 +488,11 @@ fn run(cli: Cli) -> Result<(), String> {
             mesh: scene.mesh,
             frames,
             samples,
-            direct: matches!(shader, ShaderArg::Direct),
-            resonant: matches!(shader, ShaderArg::Resonant),
+            shading: match shader {
+                ShaderArg::Lookup => clothbake::viewer::Shading::Lookup,
+                ShaderArg::Direct => clothbake::viewer::Shading::Direct,
+                ShaderArg::Resonant => clothbake::viewer::Shading::Resonant,
+            },
         }),
         Command::Report { quick, out } => {
             let fabrics = FabricSet::builtin().fabrics().to_vec();

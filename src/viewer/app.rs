@@ -7,7 +7,7 @@ use super::controls::{
     pixels_to_lines, step_samples,
 };
 use super::timer::GpuTimer;
-use super::{ViewError, ViewSummary};
+use super::{Shading, ViewError, ViewSummary};
 use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuTable};
 use crate::model::{Fabric, ResonantNodes};
 use crate::render::job::load_table;
@@ -39,19 +39,8 @@ pub(super) struct Setup {
     pub tables: PathBuf,
     pub frames: Option<u32>,
     pub samples: u32,
-    /// Start with the direct shader.
-    pub direct: bool,
-    /// Start with the resonant shader (unless `direct`).
-    pub resonant: bool,
-}
-
-/// How the cloth is shaded.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Shading {
-    Lookup,
-    Direct,
-    /// The resonant quadrature in the shader, default node counts.
-    Resonant,
+    /// The shading at start.
+    pub shading: Shading,
 }
 
 /// Runs the event loop until the window closes; `table` is the first fabric's.
@@ -613,14 +602,10 @@ impl ApplicationHandler for App {
                 graphics.window.request_redraw();
                 let label = graphics.renderer.brdf_label().to_string();
                 self.graphics = Some(graphics);
-                if self.setup.direct || self.setup.resonant {
+                if self.setup.shading != Shading::Lookup {
                     // Asked for on the command line: failing to build it is an error.
-                    let shading = if self.setup.direct {
-                        Shading::Direct
-                    } else {
-                        Shading::Resonant
-                    };
-                    if let Err(message) = self.show(self.current, shading, self.samples) {
+                    if let Err(message) = self.show(self.current, self.setup.shading, self.samples)
+                    {
                         self.fail(event_loop, ViewError::Render(message));
                     }
                 } else {

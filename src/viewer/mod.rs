@@ -45,11 +45,19 @@ pub struct ViewOptions {
     pub frames: Option<u32>,
     /// Initial paper-mode samples per thread of the direct shader.
     pub samples: u32,
-    /// Start with the direct shader instead of the table lookup.
-    pub direct: bool,
-    /// Start with the resonant shader ([`crate::gpu::GpuResonant`], default nodes) instead
-    /// of the table lookup (ignored when `direct` is set).
-    pub resonant: bool,
+    /// The shading at start (keys D and G switch it).
+    pub shading: Shading,
+}
+
+/// How the cloth is shaded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shading {
+    /// Table lookup from the fabric's baked table.
+    Lookup,
+    /// The model in the shader, paper mode ([`crate::gpu::GpuDirect`]).
+    Direct,
+    /// The resonant quadrature in the shader ([`crate::gpu::GpuResonant`], default nodes).
+    Resonant,
 }
 
 /// What a viewing session measured.
@@ -168,8 +176,7 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
             tables: options.tables,
             frames: options.frames,
             samples: options.samples,
-            direct: options.direct,
-            resonant: options.resonant,
+            shading: options.shading,
         },
         table,
     )
@@ -230,8 +237,7 @@ mod tests {
             mesh: None,
             frames: Some(1),
             samples: DEFAULT_SAMPLES,
-            direct: false,
-            resonant: false,
+            shading: Shading::Lookup,
         };
         let e = run(options.clone()).unwrap_err().to_string();
         assert!(
