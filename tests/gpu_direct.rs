@@ -78,16 +78,7 @@ impl GpuBrdf for Atan2Probe {
 /// The largest absolute error of the device's f32 `atan2` over the angles in [−π, π] (the
 /// shader's θ lie in [−π/2, π/2]), at several radii, against f64 on the same f32 arguments.
 fn atan2_error(context: &GpuContext) -> f64 {
-    let device = &context.device;
-    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("atan2 probe"),
-        entries: &[],
-    });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("atan2 probe"),
-        layout: &layout,
-        entries: &[],
-    });
+    let (layout, group) = clothbake::gpu::empty_bind_group(context, "atan2 probe");
     let probe = Atan2Probe { layout, group };
     let count = 100_000;
     let pairs: Vec<(Vec3, Vec3)> = (0..count)

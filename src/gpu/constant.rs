@@ -25,16 +25,7 @@ fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
 impl GpuConstant {
     /// The constant BRDF, with an empty group 0.
     pub fn new(context: &GpuContext) -> Self {
-        let device = &context.device;
-        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("constant"),
-            entries: &[],
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("constant"),
-            layout: &bind_group_layout,
-            entries: &[],
-        });
+        let (bind_group_layout, bind_group) = super::empty_bind_group(context, "constant");
         Self {
             bind_group_layout,
             bind_group,

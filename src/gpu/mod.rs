@@ -386,6 +386,25 @@ pub(crate) fn wgsl_f32(v: f64) -> String {
     }
 }
 
+/// An empty group 0 (layout and bind group), for a [`GpuBrdf`] whose WGSL holds everything
+/// it reads as constants.
+pub fn empty_bind_group(
+    context: &GpuContext,
+    label: &str,
+) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+    let device = &context.device;
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &[],
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &layout,
+        entries: &[],
+    });
+    (layout, group)
+}
+
 /// A bind group layout entry of a [`GpuBrdf`] (visible to [`BRDF_VISIBILITY`]).
 pub(crate) fn brdf_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {

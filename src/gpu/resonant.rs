@@ -196,18 +196,8 @@ impl GpuResonant {
             message: e.to_string(),
         })?;
         let wgsl = resonant_wgsl(fabric, nodes);
-        let device = &context.device;
         context.checked(|| {
-            let bind_group_layout =
-                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("resonant"),
-                    entries: &[],
-                });
-            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("resonant"),
-                layout: &bind_group_layout,
-                entries: &[],
-            });
+            let (bind_group_layout, bind_group) = super::empty_bind_group(context, "resonant");
             Self {
                 nodes,
                 wgsl,
