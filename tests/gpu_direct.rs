@@ -41,7 +41,7 @@ use common::*;
 
 use clothbake::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, evaluate_pairs};
 use clothbake::model::{Fabric, Integration, Patch};
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 
 /// Relative error of the f32 arithmetic and `exp` (module doc).
 const BASE_RELATIVE: f64 = 2e-5;
@@ -98,15 +98,8 @@ fn atan2_error(context: &GpuContext) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The bound of the module doc for one fabric's set: (R, A).
-fn tolerance(fabric: &Fabric, atan2_error: f64, scale: f64) -> (f64, f64) {
-    let relative =
-        BASE_RELATIVE + LOBE_REACH * (atan2_error + ATAN2_ARGUMENT_ERROR) / sigma_min(fabric);
-    (relative, FLOOR * scale)
-}
-
-/// Evaluates `pairs` (named by `names` for the report) on both sides, prints the largest
-/// differences and returns descriptions of the pairs beyond the bound.
+/// Compares the GPU direct shader with the CPU's paper mode at N = `samples` on `pairs`
+/// (named by `names`), within the bound of the module doc.
 fn compare(
     context: &GpuContext,
     atan2_error: f64,
@@ -116,20 +109,12 @@ fn compare(
     names: &[String],
     label: &str,
 ) -> (GpuCpuStats, Vec<String>) {
-    let gpu_brdf = GpuDirect::new(context, fabric, samples).expect("GpuDirect");
-    let gpu = evaluate_pairs(context, &gpu_brdf, pairs).expect("GPU evaluation");
+    let brdf = GpuDirect::new(context, fabric, samples).expect("GpuDirect");
     let patch = Patch::new(fabric, Integration::Paper(samples));
-    let cpu: Vec<DVec3> = pairs
-        .iter()
-        .map(|(wi, wo)| patch.eval(wi.as_dvec3(), wo.as_dvec3()))
-        .collect();
-    let scale = cpu
-        .iter()
-        .map(|f| f.abs().max_element())
-        .fold(0.0, f64::max);
-    let label = format!("{label} ({})", gpu_brdf.label());
-    let bound = tolerance(fabric, atan2_error, scale);
-    compare_gpu_cpu(pairs, names, &gpu, &cpu, bound, &label)
+    let relative =
+        BASE_RELATIVE + LOBE_REACH * (atan2_error + ATAN2_ARGUMENT_ERROR) / sigma_min(fabric);
+    let bound = |scale| (relative, FLOOR * scale);
+    compare_gpu_cpu(context, &brdf, &patch, pairs, names, bound, label)
 }
 
 /// A GPU context and the device's measured `atan2` error, printed.

@@ -76,8 +76,8 @@ fn custom_fabric() -> Fabric {
     f
 }
 
-/// Evaluates `pairs` with the GPU and CPU resonant rules, prints the differences and returns
-/// the failures.
+/// Compares the GPU resonant shader with the CPU's resonant rule at `nodes` on `pairs`
+/// (named by `names`), within the bound of the module doc.
 fn compare(
     context: &GpuContext,
     fabric: &Fabric,
@@ -87,19 +87,10 @@ fn compare(
     label: &str,
 ) -> (GpuCpuStats, Vec<String>) {
     let brdf = GpuResonant::new(context, fabric, nodes).expect("GpuResonant");
-    let gpu = evaluate_pairs(context, &brdf, pairs).expect("GPU evaluation");
     let patch = Patch::new(fabric, Integration::Resonant(nodes));
-    let cpu: Vec<DVec3> = pairs
-        .iter()
-        .map(|(wi, wo)| patch.eval(wi.as_dvec3(), wo.as_dvec3()))
-        .collect();
-    let scale = cpu
-        .iter()
-        .map(|f| f.abs().max_element())
-        .fold(0.0, f64::max);
     let relative = BASE_RELATIVE + LOBE_REACH * THETA_ERROR / sigma_min(fabric);
-    let label = format!("{label} ({})", brdf.label());
-    compare_gpu_cpu(pairs, names, &gpu, &cpu, (relative, FLOOR * scale), &label)
+    let bound = |scale| (relative, FLOOR * scale);
+    compare_gpu_cpu(context, &brdf, &patch, pairs, names, bound, label)
 }
 
 #[test]

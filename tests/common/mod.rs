@@ -4,8 +4,8 @@
 
 use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::fabric_file::FabricSet;
-use clothbake::gpu::GpuContext;
-use clothbake::model::{Fabric, Thread};
+use clothbake::gpu::{GpuBrdf, GpuContext, evaluate_pairs};
+use clothbake::model::{Fabric, Patch, Thread};
 use glam::{DVec3, Vec3};
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -152,19 +152,33 @@ pub struct GpuCpuStats {
     pub worst: String,
 }
 
-/// Compares `gpu` (as `clothbake::gpu::evaluate_pairs` returns it) with `cpu` pair by pair
-/// and channel by channel: each must be finite, ≥ 0 and within `relative`·|F| + `absolute`
-/// of the CPU's. Prints one line headed `label` and returns the statistics and up to ten
-/// failures, named by `names`.
+/// Evaluates `pairs` (named by `names`) with `brdf` on the device and with `patch` on the CPU
+/// (in f64, on the same f32 directions) and compares them pair by pair and channel by
+/// channel: each GPU value must be finite, ≥ 0 and within R·|F| + A of the CPU's, where
+/// `bound(max |F| of the set)` = (R, A). Prints one line headed `label` and returns the
+/// statistics and up to ten failures.
 pub fn compare_gpu_cpu(
+    context: &GpuContext,
+    brdf: &dyn GpuBrdf,
+    patch: &Patch,
     pairs: &[(Vec3, Vec3)],
     names: &[String],
-    gpu: &[[f32; 3]],
-    cpu: &[DVec3],
-    (relative, absolute): (f64, f64),
+    bound: impl Fn(f64) -> (f64, f64),
     label: &str,
 ) -> (GpuCpuStats, Vec<String>) {
+    let gpu = evaluate_pairs(context, brdf, pairs).expect("GPU evaluation");
     assert_eq!(gpu.len(), pairs.len());
+    let cpu: Vec<DVec3> = pairs
+        .iter()
+        .map(|(wi, wo)| patch.eval(wi.as_dvec3(), wo.as_dvec3()))
+        .collect();
+    let scale = cpu
+        .iter()
+        .map(|f| f.abs().max_element())
+        .fold(0.0, f64::max);
+    let (relative, absolute) = bound(scale);
+    let label = format!("{label} ({})", brdf.label());
+    let cpu = &cpu[..];
     let gpu: Vec<DVec3> = gpu
         .iter()
         .map(|g| DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64))
