@@ -103,7 +103,8 @@ impl ThreadModel {
         &self.pieces
     }
 
-    /// Most tangent samples one evaluation visits.
+    /// Most tangent samples one evaluation visits, for the direct, baking and paper rules
+    /// (the resonant rule places its nodes per pair: [`Self::resonant_means`] counts them).
     pub fn node_count(&self) -> usize {
         self.pieces.iter().map(|(p, _, _)| p.count).sum()
     }
