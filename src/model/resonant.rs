@@ -22,7 +22,7 @@
 //!   `NEGLIGIBLE_LOBE_Z` deviations away is dropped (`g` there is below 1e-8 of its peak).
 //! - **Base nodes.** Gauss–Legendre in α over the clipped segment for `P` and the kd term.
 //! - **Kinks.** The reweighted products `(1 − u)·a·b + u·min(a, b)` of M and P have kinks
-//!   where their two factors cross (see [`kinks`]); both node sets are split there, each
+//!   where their two factors cross (see `kinks`); both node sets are split there, each
 //!   part getting its share of the nodes (at least [`MIN_NODES_PER_PART`]). Where a
 //!   direction is near the horizon the facing window is a sliver a few degrees wide, the
 //!   lobes are flat across it and the kinks decide the integral: unsplit, one such pair in
@@ -106,7 +106,7 @@ pub const NEGLIGIBLE_LOBE_Z: f64 = 6.0;
 pub const MIN_NODES_PER_PART: u32 = 2;
 
 /// How far above a whole number a part's share of nodes must be to get one more (see
-/// [`split_counts`]); far above f32 rounding, far below any share that matters.
+/// `split_counts`); far above f32 rounding, far below any share that matters.
 pub const SPLIT_TOLERANCE: f64 = 1e-3;
 
 /// Lobe nodes stay within this many standard deviations of the peak: beyond it the Gaussian
