@@ -11,7 +11,12 @@
 //! | `resolution` | layout resolution |
 //! | `integration` | the integration rule of every texel |
 //! | `[[fabric]]` | the fabric, in the fabric-file schema (options included) |
-//! | `hash` | SHA-256 (hex) of this document's TOML without the `hash` line |
+//! | `texels` | SHA-256 (hex) of the texel data: every plane in layout order, each texel's f16 channels in plane order, as little-endian bit patterns (absent before baker revision 3) |
+//! | `hash` | SHA-256 (hex) of this document's TOML without the `hash` and `texels` lines |
+//!
+//! `hash` identifies what the table was baked from (the bake manifest predicts it without
+//! baking); `texels` checks what was baked: a file whose texels were damaged in a way that
+//! still decodes (a flipped bit inside compressed data) is rejected by it.
 //!
 //! One attribute rather than several because the exr crate writes custom attributes in hash
 //! map order, which would make the bytes of two bakes differ.
@@ -45,7 +50,11 @@ pub fn integration(layout: Layout) -> &'static str {
 /// between releases). Files without the field are revision 1.
 /// 2: thread_frame masking planes by the baking rule; filled texels symmetric across the
 /// u = 0 fold.
-pub const BAKER_REVISION: u32 = 2;
+/// 3: the `texels` checksum.
+pub const BAKER_REVISION: u32 = 3;
+
+/// The first revision that records the `texels` checksum: from it on the checksum is required.
+const TEXEL_CHECKSUM_REVISION: u32 = 3;
 
 /// The revision of files that do not record one.
 const FIRST_REVISION: u32 = 1;
@@ -89,6 +98,8 @@ pub struct TableFile {
 struct Provenance {
     #[serde(default, skip_serializing_if = "String::is_empty")]
     hash: String,
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    texels: String,
     clothbake_version: String,
     // Not written for revision 1, so that the hashes of files from before the field existed
     // still check out.
@@ -104,6 +115,7 @@ impl Provenance {
     fn new(fabric: &Fabric, layout: Layout, resolution: u32) -> Self {
         let mut provenance = Self {
             hash: String::new(),
+            texels: String::new(),
             clothbake_version: env!("CARGO_PKG_VERSION").to_string(),
             baker_revision: BAKER_REVISION,
             layout: layout.name().to_string(),
@@ -115,18 +127,34 @@ impl Provenance {
         provenance
     }
 
-    /// SHA-256 of the TOML of every field but `hash`.
+    /// SHA-256 of the TOML of every field but `hash` and `texels`.
     fn content_hash(&self) -> String {
         let unhashed = Self {
             hash: String::new(),
+            texels: String::new(),
             ..self.clone()
         };
         let text = toml::to_string(&unhashed).expect("provenance serialises to TOML");
-        Sha256::digest(text.as_bytes())
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect()
+        hex(&Sha256::digest(text.as_bytes()))
     }
+}
+
+fn hex(digest: &[u8]) -> String {
+    digest.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// SHA-256 of the texels of `planes` as the `texels` field defines it.
+fn texel_checksum(planes: &[Plane]) -> String {
+    let mut hasher = Sha256::new();
+    for plane in planes {
+        let bytes: Vec<u8> = plane
+            .data
+            .iter()
+            .flat_map(|&v| f16::from_f32(v).to_bits().to_le_bytes())
+            .collect();
+        hasher.update(&bytes);
+    }
+    hex(&hasher.finalize())
 }
 
 fn first_revision() -> u32 {
@@ -149,7 +177,10 @@ pub fn write_table(path: &Path, table: &Table) -> std::result::Result<String, Ta
         path: path.to_path_buf(),
         source,
     };
-    let provenance = Provenance::new(&table.fabric, table.layout, table.resolution);
+    let provenance = Provenance {
+        texels: texel_checksum(table.planes()),
+        ..Provenance::new(&table.fabric, table.layout, table.resolution)
+    };
     let provenance_toml = toml::to_string(&provenance).expect("provenance serialises to TOML");
     let layers: Vec<Layer<AnyChannels<FlatSamples>>> = table
         .planes()
@@ -386,6 +417,15 @@ pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError>
             )));
         }
         planes.push(Plane { spec, data });
+    }
+    if provenance.baker_revision >= TEXEL_CHECKSUM_REVISION || !provenance.texels.is_empty() {
+        let checksum = texel_checksum(&planes);
+        if checksum != provenance.texels {
+            return Err(invalid(format!(
+                "texel checksum {checksum} does not match the recorded '{}': the texels are damaged",
+                provenance.texels
+            )));
+        }
     }
     let table = Table::new(layout, resolution, fabric, planes).map_err(invalid)?;
     Ok(TableFile {
