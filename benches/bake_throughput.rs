@@ -23,7 +23,7 @@ fn bench_bake(c: &mut Criterion) {
     group.sample_size(10);
     group.warm_up_time(Duration::from_millis(500));
     group.measurement_time(Duration::from_secs(3));
-    for (layout, resolution) in [(Layout::ThreadFrame, 16), (Layout::Grid4d, 8)] {
+    for (layout, resolution) in [(Layout::THREAD_FRAME, 16), (Layout::GRID4D, 8)] {
         for fabric in FabricSet::builtin().fabrics() {
             let texels: usize = layout
                 .plane_specs(fabric, resolution)

@@ -94,8 +94,8 @@ fn bench_lookup(c: &mut Criterion) {
     configure(&mut group);
     group.throughput(Throughput::Elements(pairs.len() as u64));
     for (label, layout) in [
-        ("table_lookup", Layout::ThreadFrame),
-        ("table_lookup_grid4d", Layout::Grid4d),
+        ("table_lookup", Layout::THREAD_FRAME),
+        ("table_lookup_grid4d", Layout::GRID4D),
     ] {
         for fabric in FabricSet::builtin().fabrics() {
             let table = bake(fabric, layout, layout.default_resolution(), &|| {}).expect("bake");

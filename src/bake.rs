@@ -5,8 +5,7 @@
 //! table is bit-identical whatever the thread count.
 
 use crate::model::Fabric;
-use crate::table::thread_frame;
-use crate::table::{Layout, Plane, PlaneSpec, Table, grid4d};
+use crate::table::{Layout, Plane, PlaneSpec, Table};
 use half::f16;
 
 /// Why a bake failed.
@@ -34,13 +33,7 @@ pub enum BakeError {
 
 /// Rows of work a bake reports through `on_row`.
 pub fn bake_rows(fabric: &Fabric, layout: Layout, resolution: u32) -> u64 {
-    let specs = layout.plane_specs(fabric, resolution);
-    let baked = if layout == Layout::ThreadFrame {
-        &specs[..2]
-    } else {
-        &specs[..]
-    };
-    baked.iter().map(|s| s.height as u64).sum()
+    layout.unit().bake_rows(fabric, resolution)
 }
 
 /// Rounds `values` (channel-interleaved, row by row) to f16 as the plane stores them.
@@ -78,37 +71,19 @@ pub fn bake(
             max: layout.max_resolution(),
         });
     }
-    match layout {
-        Layout::Grid4d => {
-            let values = grid4d::bake(fabric, resolution, on_row);
-            let plane = quantize(fabric, grid4d::spec(resolution), &values)?;
-            Table::new(layout, resolution, fabric, vec![plane]).map_err(BakeError::Internal)
-        }
-        Layout::ThreadFrame => bake_thread_frame(fabric, resolution, on_row),
+    let specs = layout.plane_specs(fabric, resolution);
+    let values = layout.unit().bake(fabric, resolution, on_row);
+    if values.len() != specs.len() {
+        return Err(BakeError::Internal(format!(
+            "layout {layout} baked {} planes, its specs list {}",
+            values.len(),
+            specs.len()
+        )));
     }
-}
-
-/// Bakes a `thread_frame` table: the curve means of every texel of both threads, encoded
-/// as the layout documents, and the masking planes.
-fn bake_thread_frame(
-    fabric: &Fabric,
-    resolution: u32,
-    on_row: &(dyn Fn() + Sync),
-) -> Result<Table, BakeError> {
-    let geometry = thread_frame::Geometry::new(fabric, resolution);
-    let specs = geometry.specs();
-    let mut planes = Vec::with_capacity(specs.len());
-    for (j, thread) in geometry.threads.iter().enumerate() {
-        let means = thread_frame::bake_thread_means(fabric, thread, j, on_row);
-        let flat: Vec<f64> = thread_frame::encode_thread(&means, thread)
-            .into_iter()
-            .flatten()
-            .collect();
-        planes.push(quantize(fabric, specs[j].clone(), &flat)?);
-    }
-    for (j, thread) in geometry.threads.iter().enumerate() {
-        let values = thread_frame::bake_masking(fabric, thread, j);
-        planes.push(quantize(fabric, specs[2 + j].clone(), &values)?);
-    }
-    Table::new(Layout::ThreadFrame, resolution, fabric, planes).map_err(BakeError::Internal)
+    let planes = specs
+        .into_iter()
+        .zip(&values)
+        .map(|(spec, values)| quantize(fabric, spec, values))
+        .collect::<Result<Vec<_>, _>>()?;
+    Table::new(layout, resolution, fabric, planes).map_err(BakeError::Internal)
 }

@@ -368,7 +368,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let layout = layout.unwrap_or_else(|| {
                 scene
                     .as_ref()
-                    .map_or(Layout::ThreadFrame, |s| s.layout_or(Layout::ThreadFrame))
+                    .map_or(Layout::THREAD_FRAME, |s| s.layout_or(Layout::THREAD_FRAME))
             });
             let budget = scene.as_ref().map(|s| s.budget).unwrap_or_default();
             let choice = match (
@@ -516,7 +516,7 @@ fn run(cli: Cli) -> Result<(), String> {
         }
         Command::Wgsl { table } => {
             let file = read_table(&table).map_err(|e| e.to_string())?;
-            print!("{}", clothbake::gpu::layout::lookup_wgsl(&file.table));
+            print!("{}", clothbake::table::wgsl::lookup_wgsl(&file.table));
             Ok(())
         }
         Command::Check { table, pairs } => {

@@ -32,18 +32,6 @@ use half::f16;
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
-/// Describes how the texels of `layout` were integrated.
-pub fn integration(layout: Layout) -> &'static str {
-    match layout {
-        Layout::Grid4d => {
-            "direct: per-segment midpoint rule, alpha spacing <= min(0.05 deg, sigma/16)"
-        }
-        Layout::ThreadFrame => {
-            "baking: per-segment midpoint rule, alpha spacing <= min(2 deg, sigma/6), masking planes included"
-        }
-    }
-}
-
 /// Revision of the baking code, recorded in every table and part of its hash: raised
 /// whenever a change makes the same inputs bake different texels, so that `bake` does not
 /// keep the tables of an earlier baker as up to date (a version number alone does not move
@@ -120,7 +108,7 @@ impl Provenance {
             baker_revision: BAKER_REVISION,
             layout: layout.name().to_string(),
             resolution,
-            integration: integration(layout).to_string(),
+            integration: layout.unit().integration().to_string(),
             fabric: vec![fabric.clone()],
         };
         provenance.hash = provenance.content_hash();
@@ -446,7 +434,7 @@ mod tests {
     #[test]
     fn earlier_baker_revisions_read_back_and_count_as_stale() {
         let fabric = FabricSet::builtin().fabrics()[0].clone();
-        let current = Provenance::new(&fabric, Layout::ThreadFrame, 16);
+        let current = Provenance::new(&fabric, Layout::THREAD_FRAME, 16);
         let text = toml::to_string(&current).unwrap();
         assert!(text.contains(&format!("baker_revision = {BAKER_REVISION}")));
 
@@ -460,6 +448,6 @@ mod tests {
         let read: Provenance = toml::from_str(&earlier_text).unwrap();
         assert_eq!(read.baker_revision, FIRST_REVISION);
         assert_eq!(read.content_hash(), read.hash);
-        assert_ne!(read.hash, expected_hash(&fabric, Layout::ThreadFrame, 16));
+        assert_ne!(read.hash, expected_hash(&fabric, Layout::THREAD_FRAME, 16));
     }
 }

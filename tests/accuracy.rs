@@ -32,7 +32,7 @@ const ABOVE_15_BOUND: f64 = 0.0146;
 
 #[test]
 fn default_tables_meet_their_measured_error() {
-    let layout = Layout::ThreadFrame;
+    let layout = Layout::THREAD_FRAME;
     for (name, uniform_bound, highlight_bound) in BOUNDS {
         let fabric = fabric(name);
         let table = bake(&fabric, layout, layout.default_resolution(), &|| {}).unwrap();

@@ -293,7 +293,7 @@ fn wgsl_prints_the_specialised_lookup_of_a_table() {
     let table = dir.join("velvet.exr");
     let printed = clothbake(&["wgsl", path_str(&table)]);
     assert!(printed.status.success(), "{}", output_text(&printed));
-    let expected = clothbake::gpu::layout::lookup_wgsl(&read_table(&table).unwrap().table);
+    let expected = clothbake::table::wgsl::lookup_wgsl(&read_table(&table).unwrap().table);
     assert_eq!(String::from_utf8_lossy(&printed.stdout), expected);
     assert!(expected.contains("fn cloth_brdf("));
 

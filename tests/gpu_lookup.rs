@@ -45,7 +45,7 @@ use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::fabric_file::FabricSet;
 use clothbake::gpu::{GpuBrdf, GpuTable, evaluate_pairs};
 use clothbake::table::thread_frame::ThreadGeometry;
-use clothbake::table::{Geometry, Layout, Table, octahedral, quadrilinear_corners};
+use clothbake::table::{Layout, Table, octahedral, quadrilinear_corners, thread_frame};
 use glam::{DVec3, Vec3};
 use std::time::Instant;
 
@@ -102,8 +102,8 @@ fn bound(table: &Table, wi: DVec3, wo: DVec3, cpu: DVec3) -> (DVec3, bool) {
         return (floor, false);
     }
     let planes = table.planes();
-    match table.geometry() {
-        Geometry::Grid4d => {
+    match table.geometry_as::<thread_frame::Geometry>() {
+        None => {
             let n = table.resolution as usize;
             let axis = |x: f64| {
                 let f = x.floor();
@@ -125,8 +125,8 @@ fn bound(table: &Table, wi: DVec3, wo: DVec3, cpu: DVec3) -> (DVec3, bool) {
                 + floor;
             (bound, false)
         }
-        Geometry::ThreadFrame(geometry) => {
-            let mut samples = [[0.0; 4]; 2];
+        Some(geometry) => {
+            let mut samples = [[0.0f64; 4]; 2];
             let mut errors = [[0.0; 3]; 2];
             let mut fold = [[0.0; 2]; 2];
             for (j, thread) in geometry.threads.iter().enumerate() {
@@ -271,15 +271,15 @@ fn compare(fabric_name: &str, layout: Layout, resolution: u32, seed: u64) {
 
 #[test]
 fn thread_frame_satin_matches_cpu() {
-    compare("polyester_satin_charmeuse", Layout::ThreadFrame, 16, 11);
+    compare("polyester_satin_charmeuse", Layout::THREAD_FRAME, 16, 11);
 }
 
 #[test]
 fn thread_frame_velvet_matches_cpu() {
-    compare("velvet", Layout::ThreadFrame, 16, 23);
+    compare("velvet", Layout::THREAD_FRAME, 16, 23);
 }
 
 #[test]
 fn grid4d_matches_cpu() {
-    compare("silk_shot", Layout::Grid4d, 12, 37);
+    compare("silk_shot", Layout::GRID4D, 12, 37);
 }

@@ -46,7 +46,7 @@ fn tables() -> &'static [Table] {
     TABLES.get_or_init(|| {
         fabrics()
             .iter()
-            .map(|f| bake(f, Layout::ThreadFrame, RESOLUTION, &|| {}).expect("bake"))
+            .map(|f| bake(f, Layout::THREAD_FRAME, RESOLUTION, &|| {}).expect("bake"))
             .collect()
     })
 }

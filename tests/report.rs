@@ -29,8 +29,10 @@ fn tiny_config() -> ReportConfig {
         timing_pairs: 16,
         timing_samples: 3,
         min_sample_seconds: 0.001,
-        thread_frame_resolutions: vec![8, 12],
-        grid4d_resolutions: vec![4, 6],
+        resolutions: vec![
+            (Layout::THREAD_FRAME, vec![8, 12]),
+            (Layout::GRID4D, vec![4, 6]),
+        ],
         paper_samples: vec![1, 4, 16],
         resonant_nodes: vec![
             ResonantNodes {
@@ -41,7 +43,7 @@ fn tiny_config() -> ReportConfig {
             ResonantNodes::DEFAULT,
         ],
         bake_repetitions: 1,
-        speedup_layout: Layout::Grid4d,
+        speedup_layout: Layout::GRID4D,
         speedup_resolution: 4,
         speedup_repetitions: 1,
         gpu: false,

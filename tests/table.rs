@@ -4,17 +4,17 @@
 mod common;
 
 use clothbake::bake::bake;
-use clothbake::table::{Geometry, Layout, Table, grid4d};
+use clothbake::table::{Layout, Table, grid4d, thread_frame};
 use clothbake::table_file::{TableFileError, read_table, write_table};
 use common::*;
 
 fn small_table(name: &str, resolution: u32) -> Table {
-    bake(&fabric(name), Layout::Grid4d, resolution, &|| {}).unwrap()
+    bake(&fabric(name), Layout::GRID4D, resolution, &|| {}).unwrap()
 }
 
 /// A thread_frame table at its smallest useful resolution (a few seconds to bake).
 fn small_thread_frame(name: &str) -> Table {
-    bake(&fabric(name), Layout::ThreadFrame, 8, &|| {}).unwrap()
+    bake(&fabric(name), Layout::THREAD_FRAME, 8, &|| {}).unwrap()
 }
 
 #[test]
@@ -57,7 +57,7 @@ fn grid4d_lookup_reproduces_texels_at_centres_and_interpolates_between() {
 #[test]
 fn thread_frame_lookup_reproduces_texels_at_their_coordinates() {
     let table = small_thread_frame("linen_plain");
-    let Geometry::ThreadFrame(geometry) = table.geometry() else {
+    let Some(geometry) = table.geometry_as::<thread_frame::Geometry>() else {
         panic!("not thread_frame")
     };
     let planes = table.planes();
@@ -122,8 +122,8 @@ fn thread_frame_lookup_reproduces_texels_at_their_coordinates() {
 #[test]
 fn thread_frame_u0_slice_is_symmetric_in_v() {
     for name in ["polyester_satin_charmeuse", "linen_plain"] {
-        let table = bake(&fabric(name), Layout::ThreadFrame, 12, &|| {}).unwrap();
-        let Geometry::ThreadFrame(geometry) = table.geometry() else {
+        let table = bake(&fabric(name), Layout::THREAD_FRAME, 12, &|| {}).unwrap();
+        let Some(geometry) = table.geometry_as::<thread_frame::Geometry>() else {
             panic!("not thread_frame")
         };
         for j in 0..2 {
@@ -164,7 +164,7 @@ fn bake_is_identical_for_one_and_two_threads() {
     };
     let fabric = fabric("velvet");
     let dir = temp_dir("determinism");
-    for (layout, resolution) in [(Layout::Grid4d, 5), (Layout::ThreadFrame, 8)] {
+    for (layout, resolution) in [(Layout::GRID4D, 5), (Layout::THREAD_FRAME, 8)] {
         let one = pool(1).install(|| bake(&fabric, layout, resolution, &|| {}).unwrap());
         let two = pool(2).install(|| bake(&fabric, layout, resolution, &|| {}).unwrap());
         assert_eq!(one, two, "{layout}");
@@ -335,7 +335,7 @@ fn wrong_channels_dimensions_attributes_and_nan_texels_are_rejected() {
     let baked = small_table("linen_plain", 4);
     let mut halves = baked.planes().to_vec();
     halves[0].data.fill(0.5);
-    let provenance = provenance_of(&Table::new(Layout::Grid4d, 4, &baked.fabric, halves).unwrap());
+    let provenance = provenance_of(&Table::new(Layout::GRID4D, 4, &baked.fabric, halves).unwrap());
     let baked_provenance = provenance_of(&baked);
     let ours = ["reflection", "transmission1", "transmission2"];
     // Hand-written files use the layer name the layout expects.
@@ -408,7 +408,7 @@ fn wrong_channels_dimensions_attributes_and_nan_texels_are_rejected() {
     let fabric = fabric("linen_plain");
     let mut planes = small_table("linen_plain", 4).planes().to_vec();
     planes[0].data[7 * 3 + 1] = f32::NAN;
-    let table = Table::new(Layout::Grid4d, 4, &fabric, planes).unwrap();
+    let table = Table::new(Layout::GRID4D, 4, &fabric, planes).unwrap();
     let path = dir.join("nan.exr");
     write_table(&path, &table).unwrap();
     let message = read_table(&path).expect_err("NaN accepted").to_string();

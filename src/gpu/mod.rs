@@ -4,9 +4,9 @@
 //!
 //! - [`GpuContext`]: device and queue, the adapter's description, GPU timestamps if offered.
 //! - [`GpuTable`]: a baked [`crate::table::Table`] on the GPU, looked up by
-//!   `shaders/lookup.wgsl` specialised for the table (mirrors
-//!   [`crate::table::Table::lookup`]; [`layout`] describes the textures and generates the
-//!   WGSL, [`layout::lookup_wgsl`]).
+//!   `shaders/lookup.wgsl` and its layout's WGSL file specialised for the table (mirrors
+//!   [`crate::table::Table::lookup`]; the layout describes its textures,
+//!   [`crate::table::wgsl::lookup_wgsl`] generates the WGSL).
 //! - [`GpuDirect`]: the model itself evaluated in the shader (`shaders/direct.wgsl`), paper
 //!   mode with N tangent samples per thread (mirrors `Integration::Paper(N)`).
 //! - [`GpuResonant`]: the resonant quadrature in the shader (`shaders/resonant.wgsl`,
@@ -18,7 +18,6 @@
 
 pub mod constant;
 pub mod direct;
-pub mod layout;
 pub mod resonant;
 pub mod table;
 
@@ -373,18 +372,7 @@ impl PairEvaluator {
     }
 }
 
-/// A WGSL f32 literal of `v` rounded to f32, for the constants of generated shaders:
-/// integers as `N.0`, others in the shortest exponent form that parses back to the same f32,
-/// with the `f` suffix (parsed directly as f32, no double rounding).
-pub(crate) fn wgsl_f32(v: f64) -> String {
-    let v = v as f32;
-    assert!(v.is_finite(), "non-finite shader constant {v}");
-    if v == v.trunc() && v.abs() < 1e6 {
-        format!("{v:.1}")
-    } else {
-        format!("{v:e}f")
-    }
-}
+pub(crate) use crate::table::wgsl::wgsl_f32;
 
 /// An empty group 0 (layout and bind group), for a [`GpuBrdf`] whose WGSL holds everything
 /// it reads as constants.
@@ -412,32 +400,5 @@ pub(crate) fn brdf_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroup
         visibility: BRDF_VISIBILITY,
         ty,
         count: None,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::wgsl_f32;
-
-    #[test]
-    fn literals_round_trip_f32() {
-        for v in [
-            0.0,
-            1.0,
-            -3.0,
-            47.0,
-            std::f64::consts::FRAC_PI_2,
-            -1e-6,
-            0.1,
-            1.4f64.sin(),
-            1e-9,
-            0.15,
-            1.2345678e-20,
-        ] {
-            let text = wgsl_f32(v);
-            let parsed: f32 = text.trim_end_matches('f').parse().expect("literal");
-            assert_eq!(parsed, v as f32, "{text}");
-            assert!(text.contains('.') || text.contains('e'), "{text}");
-        }
     }
 }

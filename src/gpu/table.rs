@@ -1,28 +1,29 @@
 //! [`GpuTable`]: a baked table on the GPU, a [`GpuBrdf`] whose `cloth_brdf` is the table
-//! lookup of `shaders/lookup.wgsl` (mirroring [`Table::lookup`]).
+//! lookup of `shaders/lookup.wgsl` and the layout's WGSL file (mirroring [`Table::lookup`]).
 //!
-//! The WGSL is specialised for each table ([`layout::lookup_wgsl`]): the template
-//! `shaders/lookup.wgsl` plus a generated block holding the table's axes (warps, knots,
-//! texel counts), thread frames and fabric constants as literals, so that the shader reads
-//! no uniforms and branches on no table parameter (measured on lavapipe, 1024² render of
-//! the default scene: about 445 → 165 CPU-ms per frame, of which ~50 are the render pass
-//! without any BRDF). To use a table in another engine, take
-//! [`GpuBrdf::wgsl`] of its `GpuTable`, or [`layout::lookup_wgsl`] of the [`Table`] (no
-//! device needed), and bind its textures as listed on [`GpuTable`]. Two tables share a
-//! shader only when their geometry and albedos agree, so a renderer switching between
-//! fabrics compiles one pipeline per fabric.
+//! The WGSL is specialised for each table ([`lookup_wgsl`]): a generated block holds the
+//! table's axes (warps, knots, texel counts), thread frames and fabric constants as
+//! literals, so that the shader reads no uniforms and branches on no table parameter
+//! (measured on lavapipe, 1024² render of the default scene: about 445 → 165 CPU-ms per
+//! frame, of which ~50 are the render pass without any BRDF). To use a table in another
+//! engine, take [`GpuBrdf::wgsl`] of its `GpuTable`, or [`lookup_wgsl`] of the [`Table`]
+//! (no device needed), and bind the textures of its layout
+//! ([`crate::table::TableLookup::textures`]). Two tables share a shader only when their
+//! geometry and albedos agree, so a renderer switching between fabrics compiles one
+//! pipeline per fabric.
 
-use super::{GpuBrdf, GpuContext, GpuError, brdf_entry, layout};
-use crate::table::{Geometry, Table};
+use super::{GpuBrdf, GpuContext, GpuError, brdf_entry};
+use crate::table::wgsl::lookup_wgsl;
+use crate::table::{Table, TextureData};
 
 /// A table on the GPU: its textures, bound in one bind group, and its specialised lookup.
 ///
-/// Bindings (group 0): 3 a linear clamp-to-edge sampler; thread_frame: 4 and 5 the thread
-/// textures (3D), 6 the masking array texture; grid4d: 7 the grid array texture (see
-/// [`layout`]).
+/// Bindings (group 0): 3 a linear clamp-to-edge sampler; the layout's textures at the
+/// bindings its [`crate::table::TableLookup::textures`] give (thread_frame: 4 and 5 the
+/// thread textures (3D), 6 the masking array texture; grid4d: 7 the grid array texture).
 pub struct GpuTable {
     label: String,
-    /// [`layout::lookup_wgsl`] of the table.
+    /// [`lookup_wgsl`] of the table.
     wgsl: String,
     bind_group_layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
@@ -37,30 +38,11 @@ impl GpuTable {
     fn create(context: &GpuContext, table: &Table) -> Result<Self, GpuError> {
         let device = &context.device;
         let limits = device.limits();
-        let views = match table.geometry() {
-            Geometry::Grid4d => {
-                let data = layout::grid4d_texture(&table.planes()[0], table.resolution);
-                check_size(&data, wgpu::TextureDimension::D2, &limits)?;
-                let view = upload(context, "grid4d", &data, wgpu::TextureDimension::D2);
-                vec![(7, view)]
-            }
-            Geometry::ThreadFrame(geometry) => {
-                let mut views = Vec::new();
-                for (j, thread) in geometry.threads.iter().enumerate() {
-                    let data = layout::thread_texture(&table.planes()[j], thread);
-                    check_size(&data, wgpu::TextureDimension::D3, &limits)?;
-                    let name = format!("thread{}", j + 1);
-                    let view = upload(context, &name, &data, wgpu::TextureDimension::D3);
-                    views.push((4 + j as u32, view));
-                }
-                let data = layout::masking_texture(&table.planes()[2..4]);
-                views.push((
-                    6,
-                    upload(context, "masking", &data, wgpu::TextureDimension::D2),
-                ));
-                views
-            }
-        };
+        let mut views = Vec::new();
+        for data in table.geometry().textures(table.planes()) {
+            check_size(&data, &limits)?;
+            views.push((data.binding, data.three_d, upload(context, &data)));
+        }
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("table sampler"),
             address_mode_u: wgpu::AddressMode::ClampToEdge,
@@ -76,14 +58,14 @@ impl GpuTable {
             3,
             wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
         )];
-        layout_entries.extend(views.iter().map(|(binding, _)| {
-            let view_dimension = if (4..=5).contains(binding) {
+        layout_entries.extend(views.iter().map(|&(binding, three_d, _)| {
+            let view_dimension = if three_d {
                 wgpu::TextureViewDimension::D3
             } else {
                 wgpu::TextureViewDimension::D2Array
             };
             brdf_entry(
-                *binding,
+                binding,
                 wgpu::BindingType::Texture {
                     sample_type: wgpu::TextureSampleType::Float { filterable: true },
                     view_dimension,
@@ -99,7 +81,7 @@ impl GpuTable {
             binding: 3,
             resource: wgpu::BindingResource::Sampler(&sampler),
         }];
-        entries.extend(views.iter().map(|(binding, view)| wgpu::BindGroupEntry {
+        entries.extend(views.iter().map(|(binding, _, view)| wgpu::BindGroupEntry {
             binding: *binding,
             resource: wgpu::BindingResource::TextureView(view),
         }));
@@ -110,7 +92,7 @@ impl GpuTable {
         });
         Ok(Self {
             label: format!("lookup {} R={}", table.layout, table.resolution),
-            wgsl: layout::lookup_wgsl(table),
+            wgsl: lookup_wgsl(table),
             bind_group_layout,
             bind_group,
         })
@@ -118,8 +100,8 @@ impl GpuTable {
 }
 
 impl GpuBrdf for GpuTable {
-    /// The lookup specialised for this table ([`layout::lookup_wgsl`]): only the bindings
-    /// of its layout are used.
+    /// The lookup specialised for this table ([`lookup_wgsl`]): only the bindings of its
+    /// layout are used.
     fn wgsl(&self) -> String {
         self.wgsl.clone()
     }
@@ -138,22 +120,21 @@ impl GpuBrdf for GpuTable {
 }
 
 /// Fails with [`GpuError::Limits`] when the texture exceeds the device's limits.
-fn check_size(
-    data: &layout::TextureData,
-    dimension: wgpu::TextureDimension,
-    limits: &wgpu::Limits,
-) -> Result<(), GpuError> {
+fn check_size(data: &TextureData, limits: &wgpu::Limits) -> Result<(), GpuError> {
     let [w, h, d] = data.size;
-    let fits = match dimension {
-        wgpu::TextureDimension::D3 => w.max(h).max(d) <= limits.max_texture_dimension_3d,
-        _ => w.max(h) <= limits.max_texture_dimension_2d && d <= limits.max_texture_array_layers,
+    let fits = if data.three_d {
+        w.max(h).max(d) <= limits.max_texture_dimension_3d
+    } else {
+        w.max(h) <= limits.max_texture_dimension_2d && d <= limits.max_texture_array_layers
     };
     if fits {
         Ok(())
     } else {
         Err(GpuError::Limits(format!(
-            "{dimension:?} texture of {w}×{h}×{d} texels; the device allows {} (3D), {} (2D), \
+            "{} texture '{}' of {w}×{h}×{d} texels; the device allows {} (3D), {} (2D), \
              {} array layers",
+            if data.three_d { "3D" } else { "2D array" },
+            data.name,
             limits.max_texture_dimension_3d,
             limits.max_texture_dimension_2d,
             limits.max_texture_array_layers
@@ -163,12 +144,13 @@ fn check_size(
 
 /// Creates a filterable f16 texture (R16Float, Rg16Float or Rgba16Float by channel count)
 /// holding `data`, and its view (3D, or 2D array over the depth).
-fn upload(
-    context: &GpuContext,
-    name: &str,
-    data: &layout::TextureData,
-    dimension: wgpu::TextureDimension,
-) -> wgpu::TextureView {
+fn upload(context: &GpuContext, data: &TextureData) -> wgpu::TextureView {
+    let name = data.name.as_str();
+    let dimension = if data.three_d {
+        wgpu::TextureDimension::D3
+    } else {
+        wgpu::TextureDimension::D2
+    };
     let format = match data.channels {
         1 => wgpu::TextureFormat::R16Float,
         2 => wgpu::TextureFormat::Rg16Float,

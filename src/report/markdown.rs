@@ -118,7 +118,7 @@ fn summary(report: &Report, md: &mut String) {
         (won, of.len())
     };
     let _ = writeln!(md, "## Summary: where table lookup beats paper mode\n");
-    for layout in [Layout::ThreadFrame, Layout::Grid4d] {
+    for &layout in Layout::ALL {
         let (won, of) = wins(layout);
         let losers: Vec<String> = all
             .iter()
@@ -139,7 +139,7 @@ fn summary(report: &Report, md: &mut String) {
             }
         );
     }
-    for layout in [Layout::ThreadFrame, Layout::Grid4d] {
+    for &layout in Layout::ALL {
         let of: Vec<_> = all.iter().filter(|(_, t, _)| t.layout == layout).collect();
         let won = of
             .iter()
@@ -425,12 +425,15 @@ fn method(report: &Report, md: &mut String) {
          and over the highlight pairs of the error sets."
     );
     let resonant: Vec<String> = c.resonant_nodes.iter().map(|n| n.to_string()).collect();
+    let layouts: Vec<String> = c
+        .resolutions
+        .iter()
+        .map(|(l, r)| format!("{l} {r:?}"))
+        .collect();
     let _ = writeln!(
         md,
-        "- Resolutions: thread_frame {:?}, grid4d {:?}; paper mode N = {:?}; resonant \
-         nodes (surface/volume/base) {}.\n",
-        c.thread_frame_resolutions,
-        c.grid4d_resolutions,
+        "- Resolutions: {}; paper mode N = {:?}; resonant nodes (surface/volume/base) {}.\n",
+        layouts.join(", "),
         c.paper_samples,
         resonant.join(", ")
     );

@@ -63,9 +63,8 @@ pub struct ReportConfig {
     /// Shortest duration of one timed sample, seconds (several passes over the pair set
     /// when one pass is shorter).
     pub min_sample_seconds: f64,
-    /// Resolutions per layout, ascending.
-    pub thread_frame_resolutions: Vec<u32>,
-    pub grid4d_resolutions: Vec<u32>,
+    /// The layouts measured and their resolutions, ascending.
+    pub resolutions: Vec<(Layout, Vec<u32>)>,
     /// Paper-mode sample counts N (per thread).
     pub paper_samples: Vec<u32>,
     /// Node counts of the resonant quadrature measured (surface/volume/base per segment).
@@ -136,14 +135,13 @@ impl ReportConfig {
             timing_pairs: 256,
             timing_samples: 5,
             min_sample_seconds: 0.01,
-            thread_frame_resolutions: vec![16, 24, 48],
-            grid4d_resolutions: vec![8, 12],
+            resolutions: report_resolutions(true),
             paper_samples: QUICK_PAPER_SAMPLES.to_vec(),
             resonant_nodes: QUICK_RESONANT_NODES.to_vec(),
             gpu_resonant_nodes: vec![ResonantNodes::DEFAULT],
             bake_repetitions: 1,
             repeat_bakes_below_seconds: 0.0,
-            speedup_layout: Layout::ThreadFrame,
+            speedup_layout: Layout::DEFAULT,
             speedup_resolution: 16,
             speedup_repetitions: 3,
             gpu: true,
@@ -163,14 +161,13 @@ impl ReportConfig {
             timing_pairs: 1024,
             timing_samples: 11,
             min_sample_seconds: 0.05,
-            thread_frame_resolutions: Layout::ThreadFrame.resolution_ladder(),
-            grid4d_resolutions: vec![8, 12, 16, 24],
+            resolutions: report_resolutions(false),
             paper_samples: PAPER_SAMPLES.to_vec(),
             resonant_nodes: RESONANT_NODES.to_vec(),
             gpu_resonant_nodes: vec![nodes(3, 2, 2), ResonantNodes::DEFAULT],
             bake_repetitions: 3,
             repeat_bakes_below_seconds: 20.0,
-            speedup_layout: Layout::ThreadFrame,
+            speedup_layout: Layout::DEFAULT,
             speedup_resolution: 32,
             speedup_repetitions: 3,
             gpu: true,
@@ -178,13 +175,14 @@ impl ReportConfig {
             gpu_frames: 7,
         }
     }
+}
 
-    fn resolutions(&self, layout: Layout) -> &[u32] {
-        match layout {
-            Layout::ThreadFrame => &self.thread_frame_resolutions,
-            Layout::Grid4d => &self.grid4d_resolutions,
-        }
-    }
+/// Every registered layout with the resolutions its unit gives the report.
+fn report_resolutions(quick: bool) -> Vec<(Layout, Vec<u32>)> {
+    Layout::ALL
+        .iter()
+        .map(|&l| (l, l.unit().report_resolutions(quick).to_vec()))
+        .collect()
 }
 
 /// Errors and cost of paper mode at one N.
@@ -547,8 +545,8 @@ fn measure_fabric(
         })
         .collect();
     let mut tables: Vec<(Table, TableError, BakeTiming)> = Vec::new();
-    for layout in [Layout::ThreadFrame, Layout::Grid4d] {
-        for &resolution in config.resolutions(layout) {
+    for &(layout, ref resolutions) in &config.resolutions {
+        for &resolution in resolutions {
             let (table, bake_timing) = time_repeated(
                 bake_pool,
                 config.bake_repetitions,
@@ -795,9 +793,8 @@ pub fn run(
     {
         return Err(ReportError::Config(e));
     }
-    for layout in Layout::ALL {
-        if let Some(&r) = config
-            .resolutions(layout)
+    for (layout, resolutions) in &config.resolutions {
+        if let Some(&r) = resolutions
             .iter()
             .find(|&&r| !(2..=layout.max_resolution()).contains(&r))
         {
@@ -821,7 +818,7 @@ pub fn run(
     for fabric in &config.fabrics {
         let mut largest: Option<Table> = None;
         let report = measure_fabric(config, fabric, &bake_pool, progress, &mut |t| {
-            if t.layout == Layout::ThreadFrame
+            if t.layout == Layout::DEFAULT
                 && largest.as_ref().is_none_or(|l| l.resolution < t.resolution)
             {
                 largest = Some(t.clone());

@@ -21,8 +21,13 @@ pub const GPU_COST: &str = "gpu_cost.png";
 const FONT: &str = "sans-serif";
 const PANEL: (u32, u32) = (560, 420);
 
-const THREAD_FRAME_COLOUR: RGBColor = RGBColor(31, 119, 180);
-const GRID4D_COLOUR: RGBColor = RGBColor(214, 39, 40);
+/// Layout colours, in the registry's order ([`Layout::ALL`]).
+const LAYOUT_COLOURS: [RGBColor; 4] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+];
 const PAPER_COLOUR: RGBColor = RGBColor(44, 160, 44);
 const RESONANT_COLOUR: RGBColor = RGBColor(148, 103, 189);
 const DIRECT_COLOUR: RGBColor = RGBColor(90, 90, 90);
@@ -39,10 +44,8 @@ const FABRIC_COLOURS: [RGBColor; 8] = [
 ];
 
 fn layout_colour(layout: Layout) -> RGBColor {
-    match layout {
-        Layout::ThreadFrame => THREAD_FRAME_COLOUR,
-        Layout::Grid4d => GRID4D_COLOUR,
-    }
+    let index = Layout::ALL.iter().position(|&l| l == layout).unwrap_or(0);
+    LAYOUT_COLOURS[index % LAYOUT_COLOURS.len()]
 }
 
 fn register_font() {
@@ -329,7 +332,7 @@ fn error_vs_size(report: &Report, path: &Path) -> PlotResult {
                     y_ticks: &fmt_log_percent,
                 },
             )?;
-            for layout in [Layout::ThreadFrame, Layout::Grid4d] {
+            for &layout in Layout::ALL {
                 let of: Vec<_> = f.tables.iter().filter(|t| t.layout == layout).collect();
                 let sets: [(&str, Marker, ErrorOf); 3] = [
                     ("uniform", Marker::Circle, |t| t.error.uniform.relative_rms),
@@ -434,7 +437,7 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                     resonant_label!(r.label, lg2((r.timing.ns_per_eval, worst(&r.error))))
                 }),
             )?;
-            for layout in [Layout::ThreadFrame, Layout::Grid4d] {
+            for &layout in Layout::ALL {
                 let points: Vec<(f64, f64)> = f
                     .tables
                     .iter()
@@ -468,9 +471,9 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
 
 /// Bake time against resolution, one panel per layout, one curve per fabric.
 fn bake_time(report: &Report, path: &Path) -> PlotResult {
-    let layouts = [Layout::ThreadFrame, Layout::Grid4d];
-    write_png(path, (PANEL.0 * 2, PANEL.1), |root| {
-        for (panel, layout) in root.split_evenly((1, 2)).iter().zip(layouts) {
+    let layouts = Layout::ALL;
+    write_png(path, (PANEL.0 * layouts.len() as u32, PANEL.1), |root| {
+        for (panel, &layout) in root.split_evenly((1, layouts.len())).iter().zip(layouts) {
             let points = |f: &super::FabricReport| -> Vec<(f64, f64)> {
                 f.tables
                     .iter()
@@ -580,7 +583,7 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
             curve(
                 &mut chart,
                 &lookup,
-                THREAD_FRAME_COLOUR,
+                layout_colour(Layout::DEFAULT),
                 Marker::Circle,
                 (k == 0).then_some(label.as_str()),
             )?;

@@ -100,6 +100,123 @@ impl Axis {
     }
 }
 
+/// An [`Axis`] prepared for f32 lookups: the warp's constant factors folded as the WGSL
+/// warp functions fold them (`shaders/thread_frame.wgsl`), so that a lookup is a few
+/// multiplications (and one fast asin for `SinEnds`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisF32 {
+    warp: WarpF32,
+    /// N − 1.
+    last: f32,
+    /// The largest first index of a pair, N − 2 (0 for a single texel).
+    last_pair: usize,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum WarpF32 {
+    /// g = (v − lo)·scale.
+    Linear { lo: f32, scale: f32 },
+    /// Piece k: g = gs[k] + (v − vs[k])·slopes[k].
+    Knots {
+        vs: [f32; 4],
+        gs: [f32; 3],
+        slopes: [f32; 3],
+    },
+    /// g = (asin(v·c)/k + 1)·½(N − 1), folded as asin(v·c)·scale + ½(N − 1).
+    SinEnds { c: f32, scale: f32 },
+}
+
+impl AxisF32 {
+    /// The clamped `axis` in f32 (periodic axes have no f32 lookup).
+    pub fn new(axis: &Axis) -> Self {
+        assert!(!axis.periodic, "f32 lookups use clamped axes");
+        let last = (axis.texels - 1) as f64;
+        let warp = match axis.warp {
+            Warp::Linear { lo, hi } => WarpF32::Linear {
+                lo: lo as f32,
+                scale: (last / (hi - lo)) as f32,
+            },
+            Warp::Knots { xs, vs } => WarpF32::Knots {
+                vs: vs.map(|v| v as f32),
+                gs: std::array::from_fn(|k| (xs[k] * last) as f32),
+                slopes: std::array::from_fn(|k| {
+                    ((xs[k + 1] - xs[k]) * last / (vs[k + 1] - vs[k])) as f32
+                }),
+            },
+            Warp::SinEnds { hi, k } => WarpF32::SinEnds {
+                c: (k.sin() / hi) as f32,
+                scale: (0.5 * last / k) as f32,
+            },
+        };
+        Self {
+            warp,
+            last: last as f32,
+            last_pair: axis.texels.saturating_sub(2),
+        }
+    }
+
+    /// [`Axis::locate`] in f32.
+    #[inline(always)]
+    pub fn locate(&self, v: f32) -> (usize, f32) {
+        let g = match self.warp {
+            WarpF32::Linear { lo, scale } => (v - lo) * scale,
+            WarpF32::Knots { vs, gs, slopes } => {
+                let k = if v <= vs[1] {
+                    0
+                } else if v <= vs[2] {
+                    1
+                } else {
+                    2
+                };
+                gs[k] + (v - vs[k]) * slopes[k]
+            }
+            WarpF32::SinEnds { c, scale } => {
+                super::fast_math::asin(v * c) * scale + 0.5 * self.last
+            }
+        };
+        let g = g.clamp(0.0, self.last);
+        let i0 = (g as usize).min(self.last_pair);
+        (i0, g - i0 as f32)
+    }
+
+    /// The WGSL call computing the continuous texel coordinate of `value` on this axis (the
+    /// warp functions of `shaders/thread_frame.wgsl` with the folded constants), and a
+    /// comment describing the axis.
+    pub fn wgsl_texel(axis: &Axis, value: &str) -> (String, String) {
+        use super::wgsl::{wgsl_f32, wgsl_vec3};
+        let folded = Self::new(axis);
+        let last = wgsl_f32(folded.last as f64);
+        match (axis.warp, folded.warp) {
+            (Warp::Linear { lo, hi }, WarpF32::Linear { scale, .. }) => (
+                format!(
+                    "cloth_linear_texel({value}, {}, {}, {last})",
+                    wgsl_f32(lo),
+                    wgsl_f32(scale as f64)
+                ),
+                format!("Linear [{lo:.6}, {hi:.6}], {} texels", axis.texels),
+            ),
+            (Warp::Knots { xs, vs }, WarpF32::Knots { gs, slopes, .. }) => (
+                format!(
+                    "cloth_knots_texel({value}, {}, {}, {}, {last})",
+                    wgsl_vec3([vs[0], vs[1], vs[2]]),
+                    wgsl_vec3(gs.map(f64::from)),
+                    wgsl_vec3(slopes.map(f64::from))
+                ),
+                format!("Knots xs {:.6?}, vs {:.6?}, {} texels", xs, vs, axis.texels),
+            ),
+            (Warp::SinEnds { hi, k }, WarpF32::SinEnds { c, scale }) => (
+                format!(
+                    "cloth_sin_ends_texel({value}, {}, {}, {last})",
+                    wgsl_f32(c as f64),
+                    wgsl_f32(scale as f64)
+                ),
+                format!("SinEnds hi {hi:.6}, k {k}, {} texels", axis.texels),
+            ),
+            _ => unreachable!("the f32 warp follows the warp"),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

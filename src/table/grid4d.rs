@@ -10,11 +10,171 @@
 //! texels, clamping indices to [0, N−1] (clamp-to-edge) on every axis. On a GPU: a 2D array
 //! texture of N² layers (layer = wi texel x + N·y), bilinear filtering within each layer
 //! over wo, and a manual bilinear blend of the 4 layers around wi.
+//!
+//! # GPU texture
+//! One `Rgba16Float` 2D array texture (binding 7) of N² layers of N×N texels, layer
+//! `x + N·y` for wi's octahedral texel (x, y), each layer the N×N image over wo; channels
+//! reflection, transmission1, transmission2, 0. (Plus one unused layer when N² is a
+//! multiple of 6: wgpu's GL backend would otherwise make the texture a cube map array.)
 
-use super::{Plane, PlaneSpec, octahedral, quadrilinear_corners};
+use super::{
+    LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, octahedral, quadrilinear_corners,
+};
 use crate::model::{Fabric, Integration, Patch};
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, Vec2, Vec3};
+use half::f16;
 use rayon::prelude::*;
+use std::any::Any;
+use std::sync::Arc;
+
+/// The layout unit `grid4d`.
+pub struct Grid4d;
+
+impl LayoutUnit for Grid4d {
+    fn name(&self) -> &'static str {
+        "grid4d"
+    }
+
+    fn default_resolution(&self) -> u32 {
+        16
+    }
+
+    /// 64⁴ texels × 3 channels × 2 bytes = 96 MiB.
+    fn max_resolution(&self) -> u32 {
+        64
+    }
+
+    fn resolution_ladder(&self) -> &'static [u32] {
+        &[8, 12, 16, 24, 32, 48, 64]
+    }
+
+    /// Up to the size of the smaller thread_frame tables.
+    fn report_resolutions(&self, quick: bool) -> &'static [u32] {
+        if quick { &[8, 12] } else { &[8, 12, 16, 24] }
+    }
+
+    fn integration(&self) -> &'static str {
+        "direct: per-segment midpoint rule, alpha spacing <= min(0.05 deg, sigma/16)"
+    }
+
+    fn plane_specs(&self, _fabric: &Fabric, resolution: u32) -> Vec<PlaneSpec> {
+        vec![spec(resolution)]
+    }
+
+    fn bake_rows(&self, _fabric: &Fabric, resolution: u32) -> u64 {
+        spec(resolution).height as u64
+    }
+
+    fn bake(&self, fabric: &Fabric, resolution: u32, on_row: &(dyn Fn() + Sync)) -> Vec<Vec<f64>> {
+        vec![bake(fabric, resolution, on_row)]
+    }
+
+    fn lookup(&self, _fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup> {
+        Arc::new(Grid4dLookup {
+            n: resolution as usize,
+        })
+    }
+
+    fn wgsl_source(&self) -> &'static str {
+        include_str!("../../shaders/grid4d.wgsl")
+    }
+}
+
+/// The lookup of a grid4d table of N×N octahedral texels per direction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid4dLookup {
+    pub n: usize,
+}
+
+impl TableLookup for Grid4dLookup {
+    fn terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3] {
+        lookup_terms(&planes[0], self.n as u32, wi, wo)
+    }
+
+    fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3] {
+        let n = self.n;
+        let encode = |w: Vec3| {
+            let p = Vec2::new(w.x, w.y) / (w.x.abs() + w.y.abs() + w.z.abs());
+            (Vec2::new(p.x + p.y, p.x - p.y) + 1.0) * (0.5 * n as f32) - 0.5
+        };
+        let (ci, co) = (encode(wi), encode(wo));
+        let axes = [ci.x, ci.y, co.x, co.y].map(|x| axis_f32(x, n));
+        let data = &planes[0].data;
+        let width = n * n;
+        let mut sum = [0.0f32; 3];
+        for corner in 0..16 {
+            let mut weight = 1.0;
+            let index: [usize; 4] = std::array::from_fn(|a| {
+                let (i0, i1, f) = axes[a];
+                if corner >> a & 1 == 1 {
+                    weight *= f;
+                    i1
+                } else {
+                    weight *= 1.0 - f;
+                    i0
+                }
+            });
+            let texel = ((index[1] * n + index[3]) * width + index[0] * n + index[2]) * 3;
+            for c in 0..3 {
+                sum[c] += weight * data[texel + c];
+            }
+        }
+        sum
+    }
+
+    fn wgsl_constants(&self) -> String {
+        format!(
+            "// Octahedral texels per axis of the grid.\nconst CLOTH_GRID_N: u32 = {}u;\n",
+            self.n
+        )
+    }
+
+    fn textures(&self, planes: &[Plane]) -> Vec<TextureData> {
+        vec![texture(&planes[0], self.n)]
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// [`axis`] in f32.
+#[inline(always)]
+fn axis_f32(x: f32, n: usize) -> (usize, usize, f32) {
+    let floor = x.floor();
+    let last = n as i32 - 1;
+    let i0 = (floor as i32).clamp(0, last) as usize;
+    let i1 = (floor as i32 + 1).clamp(0, last) as usize;
+    (i0, i1, x - floor)
+}
+
+/// The grid4d plane as the GPU texture of the module doc.
+pub fn texture(plane: &Plane, n: usize) -> TextureData {
+    let mut texels = Vec::with_capacity(n.pow(4) * 4);
+    for (wi_y, wi_x) in (0..n).flat_map(|y| (0..n).map(move |x| (y, x))) {
+        for wo_y in 0..n {
+            for wo_x in 0..n {
+                let t = plane.texel(wi_x * n + wo_x, wi_y * n + wo_y);
+                texels.extend([t[0], t[1], t[2], 0.0].map(f16::from_f32));
+            }
+        }
+    }
+    // wgpu's GL backend creates square 2D textures whose layer count is a multiple of 6 as
+    // cube map arrays, which a D2Array view then misreads: one unused zero layer avoids it.
+    let mut layers = n * n;
+    if layers % 6 == 0 {
+        layers += 1;
+        texels.resize(texels.len() + n * n * 4, f16::ZERO);
+    }
+    TextureData {
+        name: "grid4d".into(),
+        binding: 7,
+        three_d: false,
+        size: [n as u32, n as u32, layers as u32],
+        channels: 4,
+        texels,
+    }
+}
 
 pub fn spec(resolution: u32) -> PlaneSpec {
     let side = resolution as usize * resolution as usize;
@@ -84,4 +244,31 @@ pub fn lookup_terms(plane: &Plane, resolution: u32, wi: DVec3, wo: DVec3) -> [f6
         }
     }
     sum
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid4d_texture_puts_wi_in_layers() {
+        for n in [4usize, 6] {
+            let spec = spec(n as u32);
+            let data = (0..spec.texel_count() * 3)
+                .map(|k| (k % 2048) as f32)
+                .collect();
+            let plane = Plane { spec, data };
+            let texture = texture(&plane, n);
+            let layers = if n * n % 6 == 0 { n * n + 1 } else { n * n };
+            assert_eq!(texture.size, [n as u32, n as u32, layers as u32]);
+            let (wi, wo) = ((1, n - 1), (n - 2, 2));
+            let at = (((wi.0 + n * wi.1) * n + wo.1) * n + wo.0) * 4;
+            let want = plane.texel(wi.0 * n + wo.0, wi.1 * n + wo.1);
+            let got: Vec<f32> = texture.texels[at..at + 3]
+                .iter()
+                .map(|t| t.to_f32())
+                .collect();
+            assert_eq!(got, want);
+        }
+    }
 }

@@ -1,81 +1,143 @@
 //! Table layouts and their lookup: which direction pairs each texel holds, and how a lookup
-//! interpolates. The WGSL lookup follows exactly these descriptions.
+//! interpolates. The WGSL lookup of each layout follows exactly its module's description.
 //!
 //! Every layout stores albedo-free quantities, so that the RGB value is
 //! `reflection + A1·transmission1 + A2·transmission2` with the thread albedos A1, A2 of the
 //! fabric the table records: albedo stays editable after baking. A table is a list of
 //! planes (one EXR layer each) of f16 channels.
 //!
-//! - [`grid4d`]: the baseline, octahedral(wi) × octahedral(wo).
+//! A layout is one unit: a module implementing [`LayoutUnit`] (planes and axes, bake, the
+//! CPU lookups in f64 and f32, the GPU textures and the generated WGSL constants), its WGSL
+//! file under `shaders/`, and one line in [`Layout::ALL`]. `bake`, `check`, `eval`, `wgsl`,
+//! `render`, `view` and `report` handle every registered layout through that trait.
+//!
 //! - [`thread_frame`]: per thread, coordinates aligned with its specular resonance (the
 //!   default).
+//! - [`grid4d`]: the baseline, octahedral(wi) × octahedral(wo).
 
 pub mod axis;
+pub mod fast_math;
 pub mod grid4d;
 pub mod octahedral;
 pub mod thread_frame;
+pub mod wgsl;
 
 use crate::model::Fabric;
-use glam::DVec3;
-use serde::{Deserialize, Serialize};
+use glam::{DVec3, Vec3};
+use half::f16;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::any::Any;
 use std::fmt;
+use std::sync::Arc;
 
-/// A table layout, selectable with `--layout`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Layout {
-    /// Octahedral(wi) × octahedral(wo), N⁴ texels: the baseline.
-    Grid4d,
-    /// Per-thread resonant frame plus ⟨P⟩ tables.
-    ThreadFrame,
+/// One table layout: everything that depends on how texels are arranged.
+pub trait LayoutUnit: Sync {
+    /// The name used by `--layout`, in files and in reports.
+    fn name(&self) -> &'static str;
+    /// The resolution `bake` uses when none is given.
+    fn default_resolution(&self) -> u32;
+    /// Largest resolution accepted: bounds what a table file can make a reader allocate.
+    fn max_resolution(&self) -> u32;
+    /// The resolutions `--max-error`, memory budgets and the full report choose among,
+    /// ascending.
+    fn resolution_ladder(&self) -> &'static [u32];
+    /// The resolutions the report measures (`quick`: its quick preset).
+    fn report_resolutions(&self, quick: bool) -> &'static [u32];
+    /// How the texels are integrated, as recorded in the table file.
+    fn integration(&self) -> &'static str;
+    /// The planes of a table of `fabric` at `resolution`.
+    fn plane_specs(&self, fabric: &Fabric, resolution: u32) -> Vec<PlaneSpec>;
+    /// Rows of work a bake reports through `on_row`.
+    fn bake_rows(&self, fabric: &Fabric, resolution: u32) -> u64;
+    /// The values of every plane in the order of [`Self::plane_specs`] (channel-interleaved,
+    /// row by row, before rounding to f16). `on_row` is called once per finished row.
+    fn bake(&self, fabric: &Fabric, resolution: u32, on_row: &(dyn Fn() + Sync)) -> Vec<Vec<f64>>;
+    /// The lookup of a table of `fabric` at `resolution` (its geometry; texels stay in the
+    /// planes).
+    fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup>;
+    /// The layout's WGSL file (`shaders/<name>.wgsl`), which defines
+    /// `cloth_<name>_brdf(wi, wo)`.
+    fn wgsl_source(&self) -> &'static str;
 }
 
+/// The lookup of one table: the geometry its layout derives from fabric and resolution.
+/// Every method takes the table's planes.
+pub trait TableLookup: Send + Sync + fmt::Debug + Any {
+    /// The interpolated terms (reflection, transmission1, transmission2), divided by Q, for
+    /// unit `wi`, `wo` above the horizon, in f64: the reference that the f32 and GPU
+    /// lookups follow.
+    fn terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3];
+    /// The same terms in f32 with fast approximations of the transcendental functions (see
+    /// [`fast_math`] for their error bounds): the lookup to use on a CPU.
+    fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3];
+    /// [`Self::terms_f32`] of every pair (both directions above the horizon) into `out`:
+    /// one dynamic call per batch, the loop monomorphised for the layout.
+    fn terms_f32_batch(&self, planes: &[Plane], pairs: &[(Vec3, Vec3)], out: &mut [[f32; 3]]) {
+        for (&(wi, wo), terms) in pairs.iter().zip(out.iter_mut()) {
+            *terms = self.terms_f32(planes, wi, wo);
+        }
+    }
+    /// The layout's part of the generated WGSL block: the constants and functions its
+    /// WGSL file expects, as literals.
+    fn wgsl_constants(&self) -> String;
+    /// The textures the WGSL file binds, built from the planes.
+    fn textures(&self, planes: &[Plane]) -> Vec<TextureData>;
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// A texture's contents before upload: its binding in group 0 (as the layout's WGSL file
+/// declares it), dimension, size in texels (width, height, depth or layers) and f16 texels,
+/// channel-interleaved, x fastest, then y, then z.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextureData {
+    pub name: String,
+    pub binding: u32,
+    /// A 3D texture (else a 2D array texture over the depth).
+    pub three_d: bool,
+    pub size: [u32; 3],
+    pub channels: u32,
+    pub texels: Vec<f16>,
+}
+
+/// A registered table layout, selectable with `--layout`; compared, hashed and serialised
+/// by name.
+#[derive(Clone, Copy)]
+pub struct Layout(&'static dyn LayoutUnit);
+
 impl Layout {
-    pub const ALL: [Layout; 2] = [Layout::Grid4d, Layout::ThreadFrame];
+    pub const THREAD_FRAME: Layout = Layout(&thread_frame::ThreadFrame);
+    pub const GRID4D: Layout = Layout(&grid4d::Grid4d);
+    /// The registry: every layout, the default first.
+    pub const ALL: &'static [Layout] = &[Layout::THREAD_FRAME, Layout::GRID4D];
+    /// The layout `bake` uses when none is given.
+    pub const DEFAULT: Layout = Layout::THREAD_FRAME;
+
+    pub fn unit(self) -> &'static dyn LayoutUnit {
+        self.0
+    }
 
     pub fn name(self) -> &'static str {
-        match self {
-            Layout::Grid4d => "grid4d",
-            Layout::ThreadFrame => "thread_frame",
-        }
+        self.0.name()
     }
 
     pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|l| l.name() == name)
+        Self::ALL.iter().copied().find(|l| l.name() == name)
     }
 
-    /// The resolution `bake` uses when none is given.
     pub fn default_resolution(self) -> u32 {
-        match self {
-            Layout::Grid4d => 16,
-            Layout::ThreadFrame => 48,
-        }
+        self.0.default_resolution()
     }
 
-    /// Largest resolution accepted: bounds what a table file can make a reader allocate
-    /// (grid4d: 64⁴ texels × 3 channels × 2 bytes = 96 MiB; thread_frame at 96: at most
-    /// 32 βH slices of 96 × 28 × 80 texels, 26 MiB).
     pub fn max_resolution(self) -> u32 {
-        match self {
-            Layout::Grid4d => 64,
-            Layout::ThreadFrame => 96,
-        }
+        self.0.max_resolution()
     }
 
-    /// The resolutions `--max-error` and memory budgets choose among, ascending.
     pub fn resolution_ladder(self) -> Vec<u32> {
-        match self {
-            Layout::Grid4d => vec![8, 12, 16, 24, 32, 48, 64],
-            Layout::ThreadFrame => vec![16, 24, 32, 40, 48],
-        }
+        self.0.resolution_ladder().to_vec()
     }
 
-    /// The planes of a table of `fabric` at `resolution`.
     pub fn plane_specs(self, fabric: &Fabric, resolution: u32) -> Vec<PlaneSpec> {
-        match self {
-            Layout::Grid4d => vec![grid4d::spec(resolution)],
-            Layout::ThreadFrame => thread_frame::Geometry::new(fabric, resolution).specs(),
-        }
+        self.0.plane_specs(fabric, resolution)
     }
 
     /// Bytes of f16 texel data of a table of `fabric` at `resolution`.
@@ -87,9 +149,48 @@ impl Layout {
     }
 }
 
+impl PartialEq for Layout {
+    fn eq(&self, other: &Self) -> bool {
+        self.name() == other.name()
+    }
+}
+
+impl Eq for Layout {}
+
+impl std::hash::Hash for Layout {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.name().hash(state)
+    }
+}
+
 impl fmt::Display for Layout {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
+    }
+}
+
+impl fmt::Debug for Layout {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl Serialize for Layout {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Layout {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(deserializer)?;
+        Layout::from_name(&name).ok_or_else(|| {
+            let known: Vec<&str> = Layout::ALL.iter().map(|l| l.name()).collect();
+            serde::de::Error::custom(format!(
+                "unknown layout '{name}' (known: {})",
+                known.join(", ")
+            ))
+        })
     }
 }
 
@@ -153,22 +254,37 @@ impl Plane {
     }
 }
 
-/// How a table's planes are looked up.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Geometry {
-    Grid4d,
-    ThreadFrame(Box<thread_frame::Geometry>),
-}
-
 /// A baked table: layout, resolution, the fabric it was baked from, and its planes.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone)]
 pub struct Table {
     pub layout: Layout,
     pub resolution: u32,
     pub fabric: Fabric,
     planes: Vec<Plane>,
-    geometry: Geometry,
+    lookup: Arc<dyn TableLookup>,
     albedo: [DVec3; 2],
+}
+
+impl fmt::Debug for Table {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Table")
+            .field("layout", &self.layout)
+            .field("resolution", &self.resolution)
+            .field("fabric", &self.fabric.name)
+            .field("bytes", &self.byte_size())
+            .finish()
+    }
+}
+
+/// Tables are equal when layout, resolution, fabric and every texel are (the lookup
+/// geometry follows from these).
+impl PartialEq for Table {
+    fn eq(&self, other: &Self) -> bool {
+        self.layout == other.layout
+            && self.resolution == other.resolution
+            && self.fabric == other.fabric
+            && self.planes == other.planes
+    }
 }
 
 impl Table {
@@ -179,12 +295,6 @@ impl Table {
         fabric: &Fabric,
         planes: Vec<Plane>,
     ) -> Result<Self, String> {
-        let geometry = match layout {
-            Layout::Grid4d => Geometry::Grid4d,
-            Layout::ThreadFrame => {
-                Geometry::ThreadFrame(Box::new(thread_frame::Geometry::new(fabric, resolution)))
-            }
-        };
         let specs = layout.plane_specs(fabric, resolution);
         let shapes: Vec<&PlaneSpec> = planes.iter().map(|p| &p.spec).collect();
         if shapes != specs.iter().collect::<Vec<_>>() {
@@ -209,7 +319,7 @@ impl Table {
             resolution,
             fabric: fabric.clone(),
             planes,
-            geometry,
+            lookup: layout.unit().lookup(fabric, resolution),
             albedo,
         })
     }
@@ -218,8 +328,14 @@ impl Table {
         &self.planes
     }
 
-    pub fn geometry(&self) -> &Geometry {
-        &self.geometry
+    /// The layout's lookup geometry of this table.
+    pub fn geometry(&self) -> &dyn TableLookup {
+        self.lookup.as_ref()
+    }
+
+    /// The lookup geometry as the layout's own type `G`, if it is one.
+    pub fn geometry_as<G: TableLookup>(&self) -> Option<&G> {
+        self.lookup.as_any().downcast_ref()
     }
 
     /// Bytes of texel data as stored (f16 channels).
@@ -228,20 +344,45 @@ impl Table {
     }
 
     /// The interpolated terms (reflection, transmission1, transmission2), divided by Q, for
-    /// unit `wi`, `wo`, exactly as the GPU lookup computes them. 0 below the horizon.
+    /// unit `wi`, `wo`, in f64 (the reference the f32 and GPU lookups follow). 0 below the
+    /// horizon.
     pub fn lookup_terms(&self, wi: DVec3, wo: DVec3) -> [f64; 3] {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return [0.0; 3];
         }
-        match &self.geometry {
-            Geometry::Grid4d => grid4d::lookup_terms(&self.planes[0], self.resolution, wi, wo),
-            Geometry::ThreadFrame(geometry) => geometry.lookup_terms(&self.planes, wi, wo),
-        }
+        self.lookup.terms(&self.planes, wi, wo)
     }
 
-    /// The table's estimate of `F(wi, wo)` (RGB).
+    /// The table's estimate of `F(wi, wo)` (RGB), in f64.
     pub fn lookup(&self, wi: DVec3, wo: DVec3) -> DVec3 {
         let [r, t1, t2] = self.lookup_terms(wi, wo);
         DVec3::splat(r) + self.albedo[0] * t1 + self.albedo[1] * t2
+    }
+
+    /// The table's estimate of `F(wi, wo)` (RGB) by the f32 lookup
+    /// ([`TableLookup::terms_f32`]): the fast CPU path.
+    #[inline]
+    pub fn lookup_f32(&self, wi: Vec3, wo: Vec3) -> Vec3 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let [r, t1, t2] = self.lookup.terms_f32(&self.planes, wi, wo);
+        Vec3::splat(r) + self.albedo[0].as_vec3() * t1 + self.albedo[1].as_vec3() * t2
+    }
+
+    /// [`Self::lookup_f32`] of every pair of `pairs`, into `out` (same length): the batch
+    /// entry point (one dynamic dispatch per batch, see [`TableLookup::terms_f32_batch`]).
+    pub fn lookup_batch(&self, pairs: &[(Vec3, Vec3)], out: &mut [Vec3]) {
+        assert_eq!(pairs.len(), out.len(), "one output per pair");
+        let mut terms = vec![[0.0f32; 3]; pairs.len()];
+        self.lookup.terms_f32_batch(&self.planes, pairs, &mut terms);
+        let albedo = self.albedo.map(|a| a.as_vec3());
+        for ((&(wi, wo), [r, t1, t2]), f) in pairs.iter().zip(terms).zip(out.iter_mut()) {
+            *f = if wi.z <= 0.0 || wo.z <= 0.0 {
+                Vec3::ZERO
+            } else {
+                Vec3::splat(r) + albedo[0] * t1 + albedo[1] * t2
+            };
+        }
     }
 }

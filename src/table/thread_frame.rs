@@ -45,12 +45,106 @@
 //! `thread1`, `thread2`: channels `reflection`, `transmission`; width = axis-0 texels,
 //! height = (axis 2 × axis 3 × axis 1) texels: row `(i2·N3 + i3)·N1 + i1`, column `i0`.
 //! `masking1`, `masking2`: channel `masking`, 129×129, column βi, row βo.
+//!
+//! # GPU textures
+//! Per thread one `Rg16Float` 3D texture (bindings 4, 5; channels reflection, transmission)
+//! of width N0 (βH), height N1 (θd') and depth N2·(N3 + 2): for each texel i2 of axis 2 (u)
+//! a block of N3 + 2 depth slices holding axis 3 (v), texel i3 at slice
+//! `i2·(N3 + 2) + 1 + i3`, with one duplicated edge slice before and after the block.
+//! Hardware filtering interpolates βH, θd' and v; the shader blends the two u blocks by
+//! hand, and the duplicated slices make sure that a sample at a block's edge can only ever
+//! blend with a copy of that edge, never with the neighbouring u block (the axes are
+//! clamped, so a copy is exactly clamp-to-edge). This is the plane's own row order
+//! `(i2·N3 + i3)·N1 + i1` regrouped as depth `i2·N3 + i3`, plus the padding slices. Both
+//! masking planes go into one `R16Float` 2D array texture (binding 6, layer j), 129×129,
+//! column βi, row βo. Six filtered fetches per light: two per thread's 4D table, one per
+//! thread's ⟨P⟩.
 
-use super::axis::{Axis, Warp};
-use super::{Plane, PlaneSpec, quadrilinear_corners};
+use super::axis::{Axis, AxisF32, Warp};
+use super::fast_math;
+use super::wgsl::wgsl_f32;
+use super::{LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, quadrilinear_corners};
 use crate::model::{Fabric, Integration, patch::ThreadModel};
-use glam::DVec3;
+use glam::{DVec3, Vec3};
+use half::f16;
+use std::any::Any;
 use std::f64::consts::{FRAC_PI_2, PI};
+use std::fmt::Write;
+use std::sync::Arc;
+
+/// The layout unit `thread_frame`.
+pub struct ThreadFrame;
+
+impl LayoutUnit for ThreadFrame {
+    fn name(&self) -> &'static str {
+        "thread_frame"
+    }
+
+    fn default_resolution(&self) -> u32 {
+        48
+    }
+
+    /// At 96: at most 32 βH slices of 96 × 28 × 80 texels, 26 MiB.
+    fn max_resolution(&self) -> u32 {
+        96
+    }
+
+    fn resolution_ladder(&self) -> &'static [u32] {
+        &[16, 24, 32, 40, 48]
+    }
+
+    fn report_resolutions(&self, quick: bool) -> &'static [u32] {
+        if quick {
+            &[16, 24, 48]
+        } else {
+            self.resolution_ladder()
+        }
+    }
+
+    fn integration(&self) -> &'static str {
+        "baking: per-segment midpoint rule, alpha spacing <= min(2 deg, sigma/6), masking planes included"
+    }
+
+    fn plane_specs(&self, fabric: &Fabric, resolution: u32) -> Vec<PlaneSpec> {
+        Geometry::new(fabric, resolution).specs()
+    }
+
+    /// The rows of both 4D tables (the masking planes are quick and not reported).
+    fn bake_rows(&self, fabric: &Fabric, resolution: u32) -> u64 {
+        self.plane_specs(fabric, resolution)[..2]
+            .iter()
+            .map(|s| s.height as u64)
+            .sum()
+    }
+
+    /// The curve means of every texel of both threads, encoded as "Channels and lookup"
+    /// describes, then the masking planes.
+    fn bake(&self, fabric: &Fabric, resolution: u32, on_row: &(dyn Fn() + Sync)) -> Vec<Vec<f64>> {
+        let geometry = Geometry::new(fabric, resolution);
+        let mut planes = Vec::with_capacity(4);
+        for (j, thread) in geometry.threads.iter().enumerate() {
+            let means = bake_thread_means(fabric, thread, j, on_row);
+            planes.push(
+                encode_thread(&means, thread)
+                    .into_iter()
+                    .flatten()
+                    .collect(),
+            );
+        }
+        for (j, thread) in geometry.threads.iter().enumerate() {
+            planes.push(bake_masking(fabric, thread, j));
+        }
+        planes
+    }
+
+    fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup> {
+        Arc::new(Geometry::new(fabric, resolution))
+    }
+
+    fn wgsl_source(&self) -> &'static str {
+        include_str!("../../shaders/thread_frame.wgsl")
+    }
+}
 
 /// Texels of the ⟨P⟩ table per axis.
 pub const MASKING_TEXELS: usize = 129;
@@ -266,14 +360,22 @@ pub struct Geometry {
     pub threads: [ThreadGeometry; 2],
     pub coverage: [f64; 2],
     pub gap: f64,
+    /// Per thread, the 4D axes and the masking axis for the f32 lookup.
+    fast_axes: [[AxisF32; 5]; 2],
 }
 
 impl Geometry {
     pub fn new(fabric: &Fabric, resolution: u32) -> Self {
+        let threads = [0, 1].map(|j| ThreadGeometry::new(fabric, j, resolution));
+        let fast_axes = threads.each_ref().map(|t| {
+            let [a0, a1, a2, a3] = t.axes.each_ref().map(AxisF32::new);
+            [a0, a1, a2, a3, AxisF32::new(&t.masking_axis)]
+        });
         Self {
-            threads: [0, 1].map(|j| ThreadGeometry::new(fabric, j, resolution)),
+            threads,
             coverage: [fabric.thread1.coverage, fabric.thread2.coverage],
             gap: (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0),
+            fast_axes,
         }
     }
 
@@ -335,6 +437,214 @@ impl Geometry {
             return [0.0; 3];
         }
         [reflection / q, transmission[0] / q, transmission[1] / q]
+    }
+}
+
+/// A pair in a thread's own frame (x along t0, y along b, z the normal), for the f32
+/// lookup: the frames are axis-aligned, so this is a swizzle.
+#[inline(always)]
+fn in_thread_frame(thread: &ThreadGeometry, w: Vec3) -> Vec3 {
+    if thread.t0 == DVec3::X {
+        w
+    } else {
+        Vec3::new(w.y, w.x, w.z)
+    }
+}
+
+impl Geometry {
+    /// [`Self::sample_thread`] in f32 (the arithmetic of `shaders/thread_frame.wgsl`, with
+    /// [`fast_math`] for atan2 and asin): `[reflection, transmission, ⟨P⟩, cos²θd']`.
+    #[inline(always)]
+    fn sample_thread_f32(&self, planes: &[Plane], j: usize, wi: Vec3, wo: Vec3) -> [f32; 4] {
+        let thread = &self.threads[j];
+        let [a_beta, a_theta, a_u, a_v, a_masking] = &self.fast_axes[j];
+        let (wi, wo) = (in_thread_frame(thread, wi), in_thread_frame(thread, wo));
+        let h = wi + wo;
+        let beta_h = fast_math::atan2(h.x, h.z);
+        // sin βH, cos βH without trigonometry (as the WGSL does).
+        let r = (h.x * h.x + h.z * h.z).max(1e-37).sqrt().recip();
+        let (sin_b, cos_b) = (h.x * r, h.z * r);
+        let d = wi - wo;
+        let s = (0.5 * (d.x * cos_b - d.z * sin_b)).clamp(-1.0, 1.0);
+        let phi_i = fast_math::atan2(wi.y, wi.x * sin_b + wi.z * cos_b);
+        let phi_o = fast_math::atan2(wo.y, wo.x * sin_b + wo.z * cos_b);
+        let (mut u, mut v) = (0.5 * (phi_i + phi_o), 0.5 * (phi_i - phi_o));
+        if u < 0.0 {
+            (u, v) = (-u, -v);
+        }
+        let (i0, f0) = a_beta.locate(beta_h);
+        let (i1, f1) = a_theta.locate(fast_math::asin(s));
+        let (i2, f2) = a_u.locate(u);
+        let (i3, f3) = a_v.locate(v);
+        let n = thread.axes.map(|a| a.texels);
+        // Plane row (i2·N3 + i3)·N1 + i1, column i0; strides of axes 0, 1, 3, 2.
+        let strides = [1, n[0], n[0] * n[1] * n[3], n[0] * n[1]];
+        let base = ((i2 * n[3] + i3) * n[1] + i1) * n[0] + i0;
+        let data = &planes[j].data;
+        let (mut reflection, mut transmission) = (0.0f32, 0.0f32);
+        for corner in 0..16usize {
+            let mut weight = 1.0f32;
+            let mut at = base;
+            for (a, f) in [f0, f1, f2, f3].into_iter().enumerate() {
+                if corner >> a & 1 == 1 {
+                    weight *= f;
+                    at += strides[a];
+                } else {
+                    weight *= 1.0 - f;
+                }
+            }
+            reflection += weight * data[2 * at];
+            transmission += weight * data[2 * at + 1];
+        }
+        let (x0, fx) = a_masking.locate(fast_math::atan2(wi.x, wi.z));
+        let (y0, fy) = a_masking.locate(fast_math::atan2(wo.x, wo.z));
+        let masking_plane = &planes[2 + j].data;
+        let width = MASKING_TEXELS;
+        let at = |x: usize, y: usize| masking_plane[y * width + x];
+        let masking = ((1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x0 + 1, y0))
+            + fy * ((1.0 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)))
+        .max(0.0);
+        [reflection, transmission, masking, 1.0 - s * s]
+    }
+
+    /// The WGSL function `cloth_threadJ(wi, wo)` for thread `j` (0-based): its frame, axes
+    /// and textures as literals.
+    fn thread_wgsl(&self, j: usize) -> String {
+        let thread = &self.threads[j];
+        let n = thread.axes.map(|a| a.texels);
+        let swizzle = if thread.t0 == DVec3::X { "xyz" } else { "yxz" };
+        let names = ["c.beta_h", "c.theta_d", "c.u", "c.v"];
+        let labels = ["βH", "θd'", "u", "v"];
+        let mut f = format!(
+            "\n// Thread {k}: t0 = {t0}, b = {b}; its 4D table in texture {k}, ⟨P⟩ in masking \
+             layer {j}.\nfn cloth_thread{k}(wi: vec3<f32>, wo: vec3<f32>) -> vec4<f32> {{\n    \
+             let c = cloth_thread_coordinates(wi.{swizzle}, wo.{swizzle});\n    \
+             // Continuous texel coordinates of the 4D table (`Axis::locate`).\n    \
+             let g = vec4<f32>(\n",
+            k = j + 1,
+            t0 = thread.t0,
+            b = thread.b,
+        );
+        for a in 0..4 {
+            let (call, about) = AxisF32::wgsl_texel(&thread.axes[a], names[a]);
+            let _ = writeln!(
+                f,
+                "        // Axis {a}, {}: {about}.\n        {call},",
+                labels[a]
+            );
+        }
+        let (bi, about) = AxisF32::wgsl_texel(&thread.masking_axis, "c.beta_i");
+        let (bo, _) = AxisF32::wgsl_texel(&thread.masking_axis, "c.beta_o");
+        let _ = write!(
+            f,
+            "    );\n    // ⟨P⟩ table over (βi, βo): {about} per axis.\n    \
+             let gm = vec2<f32>(\n        {bi},\n        {bo},\n    );\n    \
+             return cloth_sample_thread(cloth_thread{k}_table, {j}, g, vec4<f32>({}, {}, {}, {}), gm, {}, c.s);\n}}\n",
+            wgsl_f32(n[0] as f64),
+            wgsl_f32(n[1] as f64),
+            wgsl_f32(n[2] as f64),
+            wgsl_f32(n[3] as f64),
+            wgsl_f32(thread.masking_axis.texels as f64),
+            k = j + 1,
+        );
+        f
+    }
+}
+
+impl TableLookup for Geometry {
+    fn terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3] {
+        self.lookup_terms(planes, wi, wo)
+    }
+
+    #[inline]
+    fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3] {
+        let mut reflection = 0.0;
+        let mut transmission = [0.0; 2];
+        let mut q = self.gap as f32 * wo.z;
+        for (j, share) in transmission.iter_mut().enumerate() {
+            let [r, t, masking, cos2_d] = self.sample_thread_f32(planes, j, wi, wo);
+            let a = self.coverage[j] as f32;
+            reflection += a * r * masking / cos2_d.max(1e-8);
+            *share = a * t * masking;
+            q += a * masking;
+        }
+        if q <= 0.0 {
+            return [0.0; 3];
+        }
+        [reflection / q, transmission[0] / q, transmission[1] / q]
+    }
+
+    fn wgsl_constants(&self) -> String {
+        // The u blend reads blocks i0 and i0 + 1 (i0 ≤ N2 − 2).
+        assert!(
+            self.threads.iter().all(|t| t.axes[2].texels >= 2),
+            "thread_frame has at least 2 u texels"
+        );
+        let mut out = format!(
+            "// Coverage (a1, a2, gap = 1 − a1 − a2).\nconst CLOTH_COVERAGE = vec3<f32>({}, {}, {});\n",
+            wgsl_f32(self.coverage[0]),
+            wgsl_f32(self.coverage[1]),
+            wgsl_f32(self.gap)
+        );
+        for j in 0..2 {
+            out += &self.thread_wgsl(j);
+        }
+        out
+    }
+
+    fn textures(&self, planes: &[Plane]) -> Vec<TextureData> {
+        let mut textures: Vec<TextureData> = (0..2)
+            .map(|j| thread_texture(&planes[j], &self.threads[j], j))
+            .collect();
+        textures.push(masking_texture(&planes[2..4]));
+        textures
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// The 3D texture of thread `j` (see "GPU textures"): 2 channels, depth N2·(N3 + 2).
+pub fn thread_texture(plane: &Plane, thread: &ThreadGeometry, j: usize) -> TextureData {
+    let [n0, n1, n2, n3] = thread.axes.map(|a| a.texels);
+    let block = n3 + 2;
+    let slice = n0 * n1 * 2;
+    let mut texels = Vec::with_capacity(slice * n2 * block);
+    for i2 in 0..n2 {
+        for padded in 0..block {
+            let i3 = padded.clamp(1, n3) - 1;
+            let start = (i2 * n3 + i3) * slice;
+            texels.extend(
+                plane.data[start..start + slice]
+                    .iter()
+                    .map(|&v| f16::from_f32(v)),
+            );
+        }
+    }
+    TextureData {
+        name: format!("thread{}", j + 1),
+        binding: 4 + j as u32,
+        three_d: true,
+        size: [n0 as u32, n1 as u32, (n2 * block) as u32],
+        channels: 2,
+        texels,
+    }
+}
+
+/// Both masking planes as the 2 layers of one one-channel array texture.
+pub fn masking_texture(planes: &[Plane]) -> TextureData {
+    let n = MASKING_TEXELS as u32;
+    TextureData {
+        name: "masking".into(),
+        binding: 6,
+        three_d: false,
+        size: [n, n, 2],
+        channels: 1,
+        texels: planes
+            .iter()
+            .flat_map(|p| p.data.iter().map(|&v| f16::from_f32(v)))
+            .collect(),
     }
 }
 
@@ -484,4 +794,40 @@ fn fill_undefined(data: &mut [[f64; 2]], dims: [usize; 4]) {
 pub fn plane_dims(geometry: &ThreadGeometry) -> [usize; 4] {
     let n = geometry.axes.map(|a| a.texels);
     [n[0], n[1], n[3], n[2]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thread_texture_pads_u_blocks_with_edge_copies() {
+        use crate::table::{Layout, PlaneSpec};
+        let fabric = crate::fabric_file::FabricSet::builtin().fabrics()[0].clone();
+        let geometry = Geometry::new(&fabric, 4);
+        let thread = &geometry.threads[0];
+        let spec: PlaneSpec = Layout::THREAD_FRAME.plane_specs(&fabric, 4)[0].clone();
+        let values = spec.texel_count() * 2;
+        // Values 0, 1, 2, … up to 2048 are exact in f16; stay below by taking them mod 2048.
+        let plane = Plane {
+            spec,
+            data: (0..values).map(|k| (k % 2048) as f32).collect(),
+        };
+        let texture = thread_texture(&plane, thread, 0);
+        let [n0, n1, n2, n3] = thread.axes.map(|a| a.texels);
+        assert_eq!(texture.size, [n0 as u32, n1 as u32, (n2 * (n3 + 2)) as u32]);
+        for i2 in 0..n2 {
+            for z in 0..n3 + 2 {
+                let i3 = z.clamp(1, n3) - 1;
+                for i1 in 0..n1 {
+                    for i0 in 0..n0 {
+                        let at = ((i2 * (n3 + 2) + z) * n1 + i1) * n0 + i0;
+                        let want = thread.texel_index([i0, i1, i2, i3]) * 2;
+                        assert_eq!(texture.texels[at * 2].to_f32(), plane.data[want]);
+                        assert_eq!(texture.texels[at * 2 + 1].to_f32(), plane.data[want + 1]);
+                    }
+                }
+            }
+        }
+    }
 }
