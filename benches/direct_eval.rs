@@ -1,8 +1,10 @@
 //! Nanoseconds per evaluation of F(wi, wo) for each built-in fabric: the converged direct
 //! evaluation, paper mode at N = 8, 32, 128 and 1024 samples per thread, the resonant
 //! quadrature at its default node counts (`resonant_default`, `ResonantNodes::DEFAULT`), and
-//! the CPU lookup of each layout's default table (baked at the layout's default resolution during setup):
-//! `table_lookup` is thread_frame, `table_lookup_grid4d` grid4d.
+//! the CPU lookups of every registered layout's default table (baked at the layout's default
+//! resolution during setup): `lookup_f32_<layout>` is `Table::lookup_f32` (the fast path),
+//! `lookup_batch_<layout>` `Table::lookup_batch` over the whole pair set, and
+//! `lookup_f64_<layout>` the f64 reference lookup `Table::lookup`.
 //!
 //! `cargo bench --bench direct_eval`; each figure is the median time of one batch of
 //! direction pairs divided by the batch size, reported by criterion per element. Sample
@@ -16,7 +18,7 @@ use criterion::{
     BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group,
     criterion_main, measurement::WallTime,
 };
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -90,16 +92,30 @@ fn bench_direct_eval(c: &mut Criterion) {
 
 fn bench_lookup(c: &mut Criterion) {
     let pairs = direction_pairs(256);
+    let pairs_f32: Vec<(Vec3, Vec3)> = pairs
+        .iter()
+        .map(|&(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
+        .collect();
+    let mut out = vec![Vec3::ZERO; pairs.len()];
     let mut group = c.benchmark_group("eval");
     configure(&mut group);
     group.throughput(Throughput::Elements(pairs.len() as u64));
-    for (label, layout) in [
-        ("table_lookup", Layout::THREAD_FRAME),
-        ("table_lookup_grid4d", Layout::GRID4D),
-    ] {
+    for &layout in Layout::ALL {
         for fabric in FabricSet::builtin().fabrics() {
             let table = bake(fabric, layout, layout.default_resolution(), &|| {}).expect("bake");
-            group.bench_function(BenchmarkId::new(label, &fabric.name), |b| {
+            let id = |kind: &str| BenchmarkId::new(format!("lookup_{kind}_{layout}"), &fabric.name);
+            group.bench_function(id("f32"), |b| {
+                b.iter(|| {
+                    pairs_f32
+                        .iter()
+                        .map(|&(wi, wo)| table.lookup_f32(black_box(wi), black_box(wo)))
+                        .sum::<Vec3>()
+                })
+            });
+            group.bench_function(id("batch"), |b| {
+                b.iter(|| table.lookup_batch(black_box(&pairs_f32), &mut out))
+            });
+            group.bench_function(id("f64"), |b| {
                 b.iter(|| {
                     pairs
                         .iter()

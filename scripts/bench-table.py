@@ -23,8 +23,14 @@ def medians(group):
     return rows
 
 
-modes = ["direct", "paper_n1024", "paper_n128", "paper_n32", "paper_n8", "resonant_default",
-         "table_lookup", "table_lookup_grid4d"]
+evaluations = ["direct", "paper_n1024", "paper_n128", "paper_n32", "paper_n8", "resonant_default"]
+eval_rows = medians("eval")
+# Every lookup benchmark measured (lookup_<kind>_<layout>), default layout first.
+lookups = sorted({name for by_mode in eval_rows.values() for name in by_mode
+                  if name.startswith("lookup_")},
+                 key=lambda n: ("grid4d" in n, n))
+modes = evaluations + lookups
+FAST = "lookup_f32_thread_frame"
 
 
 def ratio(ns, a, b):
@@ -32,12 +38,13 @@ def ratio(ns, a, b):
 
 
 print("| fabric | " + " | ".join(f"{m} (ns/eval)" for m in modes)
-      + " | direct / lookup | paper_n128 / resonant | paper_n1024 / resonant |")
+      + f" | resonant / {FAST} | paper_n128 / resonant | paper_n1024 / resonant |")
 print("|---|" + "---:|" * (len(modes) + 3))
-for fabric, by_mode in medians("eval").items():
+for fabric, by_mode in eval_rows.items():
     ns = {m: v[0] / BATCH for m, v in by_mode.items()}
-    cells = [f"{ns[m]:,.0f}" if m in ns else "–" for m in modes]
-    print(f"| {fabric} | " + " | ".join(cells) + f" | {ratio(ns, 'direct', 'table_lookup')} | "
+    cells = [f"{ns[m]:,.1f}" if m in ns and ns[m] < 100 else f"{ns[m]:,.0f}" if m in ns else "–"
+             for m in modes]
+    print(f"| {fabric} | " + " | ".join(cells) + f" | {ratio(ns, 'resonant_default', FAST)} | "
           f"{ratio(ns, 'paper_n128', 'resonant_default')} | {ratio(ns, 'paper_n1024', 'resonant_default')} |")
 
 bake = medians("bake")

@@ -40,11 +40,12 @@ fn cloth_sin_ends_texel(v: f32, c: f32, scale: f32, last: f32) -> f32 {
 // `ThreadGeometry::coordinates` (βH, θd', u, v; folded to u ≥ 0) and the masking angles
 // βi, βo, of a pair given in the thread's own frame: x along its base tangent t0, y along
 // its rotation axis b, z the normal (the generated `cloth_threadJ` swizzles wi and wo).
-// `s` = sin θd', kept for cos²θd' = 1 − s².
+// `cos2_d` = cos²θd' = 1 − (wi·t')² = (wi·n')² + (wi·b)², a sum that keeps f32's relative
+// precision as θd' → ±90° (where 1 − s² cancels to 0).
 struct ClothCoordinates {
     beta_h: f32,
     theta_d: f32,
-    s: f32,
+    cos2_d: f32,
     u: f32,
     v: f32,
     beta_i: f32,
@@ -64,7 +65,8 @@ fn cloth_thread_coordinates(wi: vec3<f32>, wo: vec3<f32>) -> ClothCoordinates {
     // s = ½(wi·t' − wo·t') = ½(wi − wo)·t'.
     let d = wi - wo;
     let s = clamp(0.5 * (d.x * cos_b - d.z * sin_b), -1.0, 1.0);
-    let phi_i = atan2(wi.y, wi.x * sin_b + wi.z * cos_b);
+    let wi_n = wi.x * sin_b + wi.z * cos_b;
+    let phi_i = atan2(wi.y, wi_n);
     let phi_o = atan2(wo.y, wo.x * sin_b + wo.z * cos_b);
     var u = 0.5 * (phi_i + phi_o);
     var v = 0.5 * (phi_i - phi_o);
@@ -72,7 +74,8 @@ fn cloth_thread_coordinates(wi: vec3<f32>, wo: vec3<f32>) -> ClothCoordinates {
         u = -u;
         v = -v;
     }
-    return ClothCoordinates(beta_h, asin(s), s, u, v, atan2(wi.x, wi.z), atan2(wo.x, wo.z));
+    let cos2_d = wi_n * wi_n + wi.y * wi.y;
+    return ClothCoordinates(beta_h, asin(s), cos2_d, u, v, atan2(wi.x, wi.z), atan2(wo.x, wo.z));
 }
 
 // `Geometry::sample_thread` from the continuous texel coordinates: (reflection,
@@ -82,7 +85,7 @@ fn cloth_thread_coordinates(wi: vec3<f32>, wo: vec3<f32>) -> ClothCoordinates {
 //
 // Axes βH, θd', v by hardware filtering; u by a blend of the two u blocks around it
 // (`Axis::locate`: i0 = min(⌊g⌋, N2 − 2), weight g − i0), whose slice i3 lies at depth
-// i0·(N3 + 2) + 1 + i3 (src/gpu/layout.rs: one padding slice either side of a block).
+// i0·(N3 + 2) + 1 + i3 (`thread_frame::thread_texture`: one padding slice either side of a block).
 fn cloth_sample_thread(
     table: texture_3d<f32>,
     layer: i32,
@@ -90,7 +93,7 @@ fn cloth_sample_thread(
     n: vec4<f32>,
     gm: vec2<f32>,
     nm: f32,
-    s: f32,
+    cos2_d: f32,
 ) -> vec4<f32> {
     let xy = (g.xy + 0.5) / n.xy;
     let block = n.w + 2.0;
@@ -104,8 +107,7 @@ fn cloth_sample_thread(
     // ⟨P⟩ bilinearly over (βi, βo).
     let mp = (gm + 0.5) / nm;
     let masking = max(textureSampleLevel(cloth_masking_table, cloth_sampler, mp, layer, 0.0).x, 0.0);
-    // cos²θd' = 1 − sin²θd' = 1 − s² exactly (s already clamped).
-    return vec4<f32>(stored, masking, 1.0 - s * s);
+    return vec4<f32>(stored, masking, cos2_d);
 }
 
 // `Geometry::lookup_terms`: (reflection, transmission1, transmission2), divided by Q.

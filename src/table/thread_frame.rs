@@ -466,8 +466,12 @@ impl Geometry {
         let (sin_b, cos_b) = (h.x * r, h.z * r);
         let d = wi - wo;
         let s = (0.5 * (d.x * cos_b - d.z * sin_b)).clamp(-1.0, 1.0);
-        let phi_i = fast_math::atan2(wi.y, wi.x * sin_b + wi.z * cos_b);
+        let wi_n = wi.x * sin_b + wi.z * cos_b;
+        let phi_i = fast_math::atan2(wi.y, wi_n);
         let phi_o = fast_math::atan2(wo.y, wo.x * sin_b + wo.z * cos_b);
+        // cos²θd' = 1 − (wi·t')² = (wi·n')² + (wi·b)²: the sum keeps f32's relative
+        // precision as θd' → ±90°, where 1 − s² cancels to 0.
+        let cos2_d = wi_n * wi_n + wi.y * wi.y;
         let (mut u, mut v) = (0.5 * (phi_i + phi_o), 0.5 * (phi_i - phi_o));
         if u < 0.0 {
             (u, v) = (-u, -v);
@@ -504,7 +508,7 @@ impl Geometry {
         let masking = ((1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x0 + 1, y0))
             + fy * ((1.0 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)))
         .max(0.0);
-        [reflection, transmission, masking, 1.0 - s * s]
+        [reflection, transmission, masking, cos2_d]
     }
 
     /// The WGSL function `cloth_threadJ(wi, wo)` for thread `j` (0-based): its frame, axes
@@ -539,7 +543,7 @@ impl Geometry {
             f,
             "    );\n    // ⟨P⟩ table over (βi, βo): {about} per axis.\n    \
              let gm = vec2<f32>(\n        {bi},\n        {bo},\n    );\n    \
-             return cloth_sample_thread(cloth_thread{k}_table, {j}, g, vec4<f32>({}, {}, {}, {}), gm, {}, c.s);\n}}\n",
+             return cloth_sample_thread(cloth_thread{k}_table, {j}, g, vec4<f32>({}, {}, {}, {}), gm, {}, c.cos2_d);\n}}\n",
             wgsl_f32(n[0] as f64),
             wgsl_f32(n[1] as f64),
             wgsl_f32(n[2] as f64),
