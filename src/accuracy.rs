@@ -22,13 +22,19 @@ pub struct SetError {
     pub max_abs_at_value: f64,
 }
 
-/// A table's errors on uniform pairs, highlight pairs, and uniform pairs with both
-/// directions at least 15° above the horizon.
+/// A table's errors on uniform pairs, highlight pairs, and on the pairs of each set with
+/// both directions at least 1°, 3° (and, uniform, 15°) above the horizon. Pairs below 1°
+/// are about 3% of the uniform set but can carry most of a table's squared error, so the
+/// bands show how much of it lies at the horizon.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct TableError {
     pub uniform: SetError,
     pub highlight: SetError,
+    pub uniform_above_1deg: SetError,
+    pub uniform_above_3deg: SetError,
     pub uniform_above_15deg: SetError,
+    pub highlight_above_1deg: SetError,
+    pub highlight_above_3deg: SetError,
 }
 
 fn set_error(values: &[(DVec3, DVec3)]) -> SetError {
@@ -94,27 +100,34 @@ impl Reference {
         };
         let uniform = compare(&self.uniform);
         let highlight = compare(&self.highlight);
-        let above = 15f64.to_radians().sin();
-        let values = |set: &[(DVec3, DVec3, DVec3, DVec3)],
-                      keep: &dyn Fn(DVec3, DVec3) -> bool|
-         -> Vec<(DVec3, DVec3)> {
-            set.iter()
-                .filter(|s| keep(s.0, s.1))
+        let above = |set: &[(DVec3, DVec3, DVec3, DVec3)], degrees: f64| -> SetError {
+            let z = degrees.to_radians().sin();
+            let kept: Vec<(DVec3, DVec3)> = set
+                .iter()
+                .filter(|s| s.0.z >= z && s.1.z >= z)
                 .map(|s| (s.2, s.3))
-                .collect()
+                .collect();
+            set_error(&kept)
         };
         TableError {
-            uniform: set_error(&values(&uniform, &|_, _| true)),
-            highlight: set_error(&values(&highlight, &|_, _| true)),
-            uniform_above_15deg: set_error(&values(&uniform, &|wi, wo| {
-                wi.z >= above && wo.z >= above
-            })),
+            uniform: above(&uniform, 0.0),
+            highlight: above(&highlight, 0.0),
+            uniform_above_1deg: above(&uniform, 1.0),
+            uniform_above_3deg: above(&uniform, 3.0),
+            uniform_above_15deg: above(&uniform, 15.0),
+            highlight_above_1deg: above(&highlight, 1.0),
+            highlight_above_3deg: above(&highlight, 3.0),
         }
     }
 }
 
-/// Measures `table` against the direct evaluation of `fabric` on `count` uniform and
-/// `count` highlight pairs.
+/// Measures `table` (its f32 lookup, the CPU path, on the pairs rounded to f32) against the
+/// direct evaluation of `fabric` on `count` uniform and `count` highlight pairs.
 pub fn measure(table: &Table, fabric: &Fabric, count: usize) -> TableError {
-    Reference::new(fabric, count).measure(|wi, wo| table.lookup(wi, wo))
+    Reference::new(fabric, count).measure(|wi, wo| lookup_f32(table, wi, wo))
+}
+
+/// [`Table::lookup_f32`] on f64 directions (rounded to f32 as a renderer passes them).
+pub fn lookup_f32(table: &Table, wi: DVec3, wo: DVec3) -> DVec3 {
+    table.lookup_f32(wi.as_vec3(), wo.as_vec3()).as_dvec3()
 }

@@ -89,7 +89,7 @@ enum Command {
         /// The table (EXR) to check.
         table: PathBuf,
         /// Uniform and highlight pairs to measure on (each).
-        #[arg(long, default_value_t = 4000, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+        #[arg(long, default_value_t = 20000, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
         pairs: u32,
     },
     /// Print the WGSL lookup specialised for a table (`fn cloth_brdf(wi, wo)` and its
@@ -540,8 +540,12 @@ fn run(cli: Cli) -> Result<(), String> {
             );
             for (label, e) in [
                 ("uniform pairs", error.uniform),
+                ("  both ≥ 1° elevation", error.uniform_above_1deg),
+                ("  both ≥ 3° elevation", error.uniform_above_3deg),
+                ("  both ≥ 15° elevation", error.uniform_above_15deg),
                 ("highlight pairs", error.highlight),
-                ("uniform, both ≥ 15° elevation", error.uniform_above_15deg),
+                ("  both ≥ 1° elevation", error.highlight_above_1deg),
+                ("  both ≥ 3° elevation", error.highlight_above_3deg),
             ] {
                 println!(
                     "  {label:<31} relative RMS {:>7.3}%   max |error| {:.3e} (where F = {:.3e})",

@@ -482,7 +482,10 @@ fn f32_lookup_follows_the_f64_lookup() {
                 .iter()
                 .map(|&(wi, wo)| table.lookup(wi.as_dvec3(), wo.as_dvec3()))
                 .collect();
-            let largest = reference.iter().map(|f| f.max_element()).fold(0.0, f64::max);
+            let largest = reference
+                .iter()
+                .map(|f| f.max_element())
+                .fold(0.0, f64::max);
             let mut batch = vec![glam::Vec3::ZERO; pairs.len()];
             table.lookup_batch(&pairs, &mut batch);
             let (mut worst, mut worst_at) = (0.0f64, 0);
@@ -490,7 +493,10 @@ fn f32_lookup_follows_the_f64_lookup() {
             for (k, (&(wi, wo), f64_value)) in pairs.iter().zip(&reference).enumerate() {
                 let single = table.lookup_f32(wi, wo);
                 assert_eq!(single, batch[k], "batch and single lookups differ");
-                assert!(single.is_finite() && single.min_element() >= 0.0, "{single}");
+                assert!(
+                    single.is_finite() && single.min_element() >= 0.0,
+                    "{single}"
+                );
                 if let Some(geometry) = table.geometry_as::<thread_frame::Geometry>() {
                     let (wi, wo) = (wi.as_dvec3(), wo.as_dvec3());
                     let q = geometry.gap * wo.z
@@ -500,9 +506,8 @@ fn f32_lookup_follows_the_f64_lookup() {
                                     * geometry.sample_thread(table.planes(), j, wi, wo)[2]
                             })
                             .sum::<f64>();
-                    let beyond_theta_axis = (0..2).any(|j| {
-                        geometry.sample_thread(table.planes(), j, wi, wo)[3] < 1e-8
-                    });
+                    let beyond_theta_axis =
+                        (0..2).any(|j| geometry.sample_thread(table.planes(), j, wi, wo)[3] < 1e-8);
                     if (q > 0.0 && q < 1e-6) || beyond_theta_axis {
                         degenerate += 1;
                         continue;
@@ -523,5 +528,8 @@ fn f32_lookup_follows_the_f64_lookup() {
             worst_overall = worst_overall.max(worst);
         }
     }
-    assert!(worst_overall <= 1e-3, "f32 lookup differs by {worst_overall:e}");
+    assert!(
+        worst_overall <= 1e-3,
+        "f32 lookup differs by {worst_overall:e}"
+    );
 }

@@ -444,21 +444,28 @@ fn tables_section(report: &Report, md: &mut String) {
     let _ = writeln!(md, "![error against size]({})\n", plots::ERROR_VS_SIZE);
     let _ = writeln!(
         md,
-        "| fabric | layout | resolution | size | uniform | highlight | both ≥ 15° | ns/lookup | bake (s) |"
+        "| fabric | layout | resolution | size | uniform | ≥ 1° | ≥ 3° | ≥ 15° | highlight | ≥ 1° | ≥ 3° | ns/lookup | bake (s) |"
     );
-    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        md,
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
     for f in &report.fabrics {
         for t in &f.tables {
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
                 f.name,
                 t.layout,
                 t.resolution,
                 size(t.bytes),
                 pct(t.error.uniform.relative_rms),
-                pct(t.error.highlight.relative_rms),
+                pct(t.error.uniform_above_1deg.relative_rms),
+                pct(t.error.uniform_above_3deg.relative_rms),
                 pct(t.error.uniform_above_15deg.relative_rms),
+                pct(t.error.highlight.relative_rms),
+                pct(t.error.highlight_above_1deg.relative_rms),
+                pct(t.error.highlight_above_3deg.relative_rms),
                 num(t.lookup.ns_per_eval),
                 t.bake.seconds
             );

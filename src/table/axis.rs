@@ -175,8 +175,10 @@ impl AxisF32 {
             }
         };
         let g = g.clamp(0.0, self.last);
-        let i0 = (g as usize).min(self.last_pair);
-        (i0, g - i0 as f32)
+        // g ≥ 0 after the clamp: a plain i32 conversion (Rust's `as usize` from f32
+        // saturates, which costs branches in this hot path).
+        let i0 = (g as i32).min(self.last_pair as i32);
+        (i0 as usize, g - i0 as f32)
     }
 
     /// The WGSL call computing the continuous texel coordinate of `value` on this axis (the

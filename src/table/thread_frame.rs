@@ -65,7 +65,7 @@ use super::fast_math;
 use super::wgsl::wgsl_f32;
 use super::{LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, quadrilinear_corners};
 use crate::model::{Fabric, Integration, patch::ThreadModel};
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 use half::f16;
 use std::any::Any;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -440,75 +440,103 @@ impl Geometry {
     }
 }
 
-/// A pair in a thread's own frame (x along t0, y along b, z the normal), for the f32
-/// lookup: the frames are axis-aligned, so this is a swizzle.
-#[inline(always)]
-fn in_thread_frame(thread: &ThreadGeometry, w: Vec3) -> Vec3 {
-    if thread.t0 == DVec3::X {
-        w
-    } else {
-        Vec3::new(w.y, w.x, w.z)
-    }
-}
-
 impl Geometry {
-    /// [`Self::sample_thread`] in f32 (the arithmetic of `shaders/thread_frame.wgsl`, with
-    /// [`fast_math`] for atan2 and asin): `[reflection, transmission, ⟨P⟩, cos²θd']`.
+    /// [`Self::sample_thread`] of both threads in f32 (the arithmetic of
+    /// `shaders/thread_frame.wgsl`, with [`fast_math`] for atan2 and asin): per thread
+    /// `[reflection, transmission, ⟨P⟩, cos²θd']`. The ten angles of the two threads go
+    /// through three four-lane atan2 calls.
     #[inline(always)]
-    fn sample_thread_f32(&self, planes: &[Plane], j: usize, wi: Vec3, wo: Vec3) -> [f32; 4] {
-        let thread = &self.threads[j];
-        let [a_beta, a_theta, a_u, a_v, a_masking] = &self.fast_axes[j];
-        let (wi, wo) = (in_thread_frame(thread, wi), in_thread_frame(thread, wo));
-        let h = wi + wo;
-        let beta_h = fast_math::atan2(h.x, h.z);
+    fn sample_threads_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [[f32; 4]; 2] {
+        // Thread 1's frame is (x, y, z), thread 2's (y, x, z): lane j of a Vec2 below is
+        // thread j's component along its own t0 (`_t`) or b (`_b`).
+        let swap = self.threads[0].t0 != DVec3::X;
+        let along = |w: Vec3| {
+            if swap {
+                Vec2::new(w.y, w.x)
+            } else {
+                Vec2::new(w.x, w.y)
+            }
+        };
+        let (wi_t, wo_t) = (along(wi), along(wo));
+        let (wi_b, wo_b) = (Vec2::new(wi_t.y, wi_t.x), Vec2::new(wo_t.y, wo_t.x));
+        let (h_t, h_z) = (wi_t + wo_t, wi.z + wo.z);
+        let masking_angles = fast_math::atan2_4(
+            Vec4::new(wi_t.x, wi_t.y, wo_t.x, wo_t.y),
+            Vec4::new(wi.z, wi.z, wo.z, wo.z),
+        );
+        let beta_h = fast_math::atan2_4(Vec4::new(h_t.x, h_t.y, 0.0, 0.0), Vec4::splat(h_z));
         // sin βH, cos βH without trigonometry (as the WGSL does).
-        let r = (h.x * h.x + h.z * h.z).max(1e-37).sqrt().recip();
-        let (sin_b, cos_b) = (h.x * r, h.z * r);
-        let d = wi - wo;
-        let s = (0.5 * (d.x * cos_b - d.z * sin_b)).clamp(-1.0, 1.0);
-        let wi_n = wi.x * sin_b + wi.z * cos_b;
-        let phi_i = fast_math::atan2(wi.y, wi_n);
-        let phi_o = fast_math::atan2(wo.y, wo.x * sin_b + wo.z * cos_b);
+        let r2 = (h_t * h_t + h_z * h_z).max(Vec2::splat(1e-37));
+        let r = Vec2::new(r2.x.sqrt(), r2.y.sqrt()).recip();
+        let (sin_b, cos_b) = (h_t * r, h_z * r);
+        let d_t = wi_t - wo_t;
+        let s = (0.5 * (d_t * cos_b - (wi.z - wo.z) * sin_b)).clamp(Vec2::splat(-1.0), Vec2::ONE);
+        let wi_n = wi_t * sin_b + wi.z * cos_b;
+        let wo_n = wo_t * sin_b + wo.z * cos_b;
+        let phi = fast_math::atan2_4(
+            Vec4::new(wi_b.x, wi_b.y, wo_b.x, wo_b.y),
+            Vec4::new(wi_n.x, wi_n.y, wo_n.x, wo_n.y),
+        );
         // cos²θd' = 1 − (wi·t')² = (wi·n')² + (wi·b)²: the sum keeps f32's relative
         // precision as θd' → ±90°, where 1 − s² cancels to 0.
-        let cos2_d = wi_n * wi_n + wi.y * wi.y;
-        let (mut u, mut v) = (0.5 * (phi_i + phi_o), 0.5 * (phi_i - phi_o));
-        if u < 0.0 {
-            (u, v) = (-u, -v);
-        }
-        let (i0, f0) = a_beta.locate(beta_h);
-        let (i1, f1) = a_theta.locate(fast_math::asin(s));
-        let (i2, f2) = a_u.locate(u);
-        let (i3, f3) = a_v.locate(v);
-        let n = thread.axes.map(|a| a.texels);
-        // Plane row (i2·N3 + i3)·N1 + i1, column i0; strides of axes 0, 1, 3, 2.
-        let strides = [1, n[0], n[0] * n[1] * n[3], n[0] * n[1]];
-        let base = ((i2 * n[3] + i3) * n[1] + i1) * n[0] + i0;
-        let data = &planes[j].data;
-        let (mut reflection, mut transmission) = (0.0f32, 0.0f32);
-        for corner in 0..16usize {
-            let mut weight = 1.0f32;
-            let mut at = base;
-            for (a, f) in [f0, f1, f2, f3].into_iter().enumerate() {
-                if corner >> a & 1 == 1 {
-                    weight *= f;
-                    at += strides[a];
-                } else {
-                    weight *= 1.0 - f;
-                }
+        let cos2_d = wi_n * wi_n + wi_b * wi_b;
+        [0, 1].map(|j| {
+            let (mut u, mut v) = (0.5 * (phi[j] + phi[2 + j]), 0.5 * (phi[j] - phi[2 + j]));
+            if u < 0.0 {
+                (u, v) = (-u, -v);
             }
-            reflection += weight * data[2 * at];
-            transmission += weight * data[2 * at + 1];
-        }
-        let (x0, fx) = a_masking.locate(fast_math::atan2(wi.x, wi.z));
-        let (y0, fy) = a_masking.locate(fast_math::atan2(wo.x, wo.z));
-        let masking_plane = &planes[2 + j].data;
-        let width = MASKING_TEXELS;
-        let at = |x: usize, y: usize| masking_plane[y * width + x];
-        let masking = ((1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x0 + 1, y0))
+            let masking = self.masking_f32(planes, j, masking_angles[j], masking_angles[2 + j]);
+            let [reflection, transmission] =
+                self.interpolate_f32(planes, j, [beta_h[j], fast_math::asin(s[j]), u, v]);
+            [reflection, transmission, masking, cos2_d[j]]
+        })
+    }
+
+    /// Thread `j`'s ⟨P⟩ at (βi, βo), bilinearly, in f32.
+    #[inline(always)]
+    fn masking_f32(&self, planes: &[Plane], j: usize, beta_i: f32, beta_o: f32) -> f32 {
+        let axis = &self.fast_axes[j][4];
+        let (x0, fx) = axis.locate(beta_i);
+        let (y0, fy) = axis.locate(beta_o);
+        let plane = &planes[2 + j].data;
+        let at = |x: usize, y: usize| plane[y * MASKING_TEXELS + x];
+        ((1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x0 + 1, y0))
             + fy * ((1.0 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)))
-        .max(0.0);
-        [reflection, transmission, masking, cos2_d]
+        .max(0.0)
+    }
+
+    /// Thread `j`'s stored channels (reflection, transmission) at table coordinates
+    /// (βH, θd', u, v), quadrilinearly, in f32.
+    #[inline(always)]
+    fn interpolate_f32(&self, planes: &[Plane], j: usize, coordinates: [f32; 4]) -> [f32; 2] {
+        let thread = &self.threads[j];
+        let axes = &self.fast_axes[j];
+        let [(i0, f0), (i1, f1), (i2, f2), (i3, f3)] =
+            std::array::from_fn(|a| axes[a].locate(coordinates[a]));
+        let n = thread.axes.map(|a| a.texels);
+        // Plane row (i2·N3 + i3)·N1 + i1, column i0, two channels per texel: in f32 units
+        // the corners along axis 0 are 2 apart, along axis 1 s1, along v s3, along u s2.
+        let (s1, s3) = (2 * n[0], 2 * n[0] * n[1]);
+        let s2 = s3 * n[3];
+        let base = 2 * (((i2 * n[3] + i3) * n[1] + i1) * n[0] + i0);
+        let data = &planes[j].data;
+        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+        // Bilinear over axes 0 and 1 of both channels at the corner block starting at `at`
+        // (one slice bounds check for its four texels).
+        let bilinear = |at: usize| -> [f32; 2] {
+            let p = &data[at..at + s1 + 4];
+            [0, 1].map(|c| {
+                lerp(
+                    lerp(p[c], p[c + 2], f0),
+                    lerp(p[s1 + c], p[s1 + c + 2], f0),
+                    f1,
+                )
+            })
+        };
+        let lerp2 = |a: [f32; 2], b: [f32; 2], t: f32| [lerp(a[0], b[0], t), lerp(a[1], b[1], t)];
+        let lower_u = lerp2(bilinear(base), bilinear(base + s3), f3);
+        let upper_u = lerp2(bilinear(base + s2), bilinear(base + s2 + s3), f3);
+        lerp2(lower_u, upper_u, f2)
     }
 
     /// The WGSL function `cloth_threadJ(wi, wo)` for thread `j` (0-based): its frame, axes
@@ -565,8 +593,9 @@ impl TableLookup for Geometry {
         let mut reflection = 0.0;
         let mut transmission = [0.0; 2];
         let mut q = self.gap as f32 * wo.z;
+        let threads = self.sample_threads_f32(planes, wi, wo);
         for (j, share) in transmission.iter_mut().enumerate() {
-            let [r, t, masking, cos2_d] = self.sample_thread_f32(planes, j, wi, wo);
+            let [r, t, masking, cos2_d] = threads[j];
             let a = self.coverage[j] as f32;
             reflection += a * r * masking / cos2_d.max(1e-8);
             *share = a * t * masking;
