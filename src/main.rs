@@ -332,7 +332,9 @@ fn run(cli: Cli) -> Result<(), String> {
             let stdout = std::io::stdout().lock();
             eval_stream(stdin, stdout, |wi, wo| EvalOutput {
                 f: patch.eval(wi, wo).to_array(),
-                table: table.as_ref().map(|t| t.table.lookup(wi, wo).to_array()),
+                table: table
+                    .as_ref()
+                    .map(|t| clothbake::accuracy::lookup_f32(&t.table, wi, wo).to_array()),
             })
             .map(|_| ())
             .map_err(|e| e.to_string())
