@@ -1,7 +1,7 @@
 //! The GPU lookup (`shaders/lookup.wgsl` specialised for each table by
-//! `clothbake::gpu::layout::lookup_wgsl`, as a `GpuBrdf`, through
+//! `clothbake::table::wgsl::lookup_wgsl`, as a `GpuBrdf`, through
 //! `clothbake::gpu::evaluate_pairs`) against the CPU lookup `Table::lookup`, on small baked
-//! tables of both layouts and seeded direction pairs.
+//! tables of every layout and seeded direction pairs.
 //!
 //! Needs a wgpu adapter; without a GPU, Mesa's lavapipe (`apt-get install -y
 //! mesa-vulkan-drivers libvulkan1`). No adapter is a failure, not a skip.
@@ -33,6 +33,12 @@
 //!    grazing texels at R = 16), so for |u| < 1e-5 the difference between the two
 //!    interpolations is added, propagated like the filtering error.
 //!
+//! 4. split_frame evaluates its point masses with the shared f32 sample kernel
+//!    (`shaders/sample.wgsl`) where the CPU uses the f64 model. tests/gpu_direct.rs bounds
+//!    that kernel's relative error by R = 2e-5 + 6·δθh/σ_min, δθh the device's atan2 error
+//!    (3.4e-6 on lavapipe): 5e-4 for satin's σs = 2.5°, the narrowest lobe here. The point
+//!    sums enter both ⟨s⟩ and Q, so F moves by at most 2R relative: 1e-3·|F| is added.
+//!
 //! The bound per pair and channel is that propagated error plus 1e-5·|F| +
 //! 1e-6. The test asserts |GPU − CPU| ≤ bound everywhere, and prints the largest absolute
 //! and relative differences and the largest ratio difference/bound.
@@ -45,7 +51,9 @@ use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::fabric_file::FabricSet;
 use clothbake::gpu::{GpuBrdf, GpuTable, evaluate_pairs};
 use clothbake::table::thread_frame::ThreadGeometry;
-use clothbake::table::{Layout, Table, octahedral, quadrilinear_corners, thread_frame};
+use clothbake::table::{
+    Layout, Plane, Table, octahedral, quadrilinear_corners, split_frame, thread_frame,
+};
 use glam::{DVec3, Vec3};
 use std::time::Instant;
 
@@ -57,6 +65,9 @@ const RELATIVE: f64 = 1e-5;
 const ABSOLUTE: f64 = 1e-6;
 /// |u| (radians) below which f32 may fold a pair to the other side of u = 0.
 const FOLD_EPSILON: f64 = 1e-5;
+/// Relative error of F from the f32 sample kernel of split_frame's point masses (module
+/// doc, point 4).
+const KERNEL_RELATIVE: f64 = 1e-3;
 
 /// 2000 uniform and 2000 highlight pairs, rounded to f32 (both sides see the same input).
 fn pairs(table: &Table, seed: u64) -> Vec<(Vec3, Vec3)> {
@@ -90,6 +101,92 @@ fn interpolate(thread: &ThreadGeometry, data: &[f32], coordinates: [f64; 4]) -> 
     sum
 }
 
+/// The interpolation errors of one thread table (4D plane `table`, masking plane
+/// `masking`) at a pair, per the module doc: `[reflection, transmission, ⟨P⟩]` from
+/// filtering and f32 coordinates, and the fold differences `[reflection, transmission]`
+/// (at least a tiny value when the pair is on the fold u = 0, else 0).
+fn thread_errors(
+    thread: &ThreadGeometry,
+    table: &Plane,
+    masking: &Plane,
+    wi: DVec3,
+    wo: DVec3,
+) -> ([f64; 3], [f64; 2]) {
+    let coordinates = thread.coordinates(wi, wo);
+    let axes = std::array::from_fn(|a| thread.axes[a].locate(coordinates[a]));
+    let texels: Vec<usize> = quadrilinear_corners(axes)
+        .map(|(i, _)| thread.texel_index(i) * 2)
+        .collect();
+    let data = &table.data;
+    let scale = 3.0 * DELTA + 4.0 * EPSILON;
+    let mut errors = [0.0; 3];
+    errors[0] = scale * range(texels.iter().map(|&k| data[k] as f64));
+    errors[1] = scale * range(texels.iter().map(|&k| data[k + 1] as f64));
+    let m = thread.masking_axis;
+    let ((x0, x1, _), (y0, y1, _)) = (m.locate(thread.beta(wi)), m.locate(thread.beta(wo)));
+    let p_range =
+        range([(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| masking.texel(x, y)[0] as f64));
+    errors[2] = (2.0 * DELTA + 2.0 * EPSILON) * p_range;
+    let mut fold = [0.0; 2];
+    // On the fold u = 0, f32 may land on the other side, (u, v) → (−u, −v).
+    if coordinates[2] < FOLD_EPSILON {
+        let [u, v] = [coordinates[2], coordinates[3]];
+        let other = interpolate(thread, data, [coordinates[0], coordinates[1], u, -v]);
+        let here = interpolate(thread, data, coordinates);
+        // At least a tiny value, marking the pair as on the fold.
+        fold = [
+            (other[0] - here[0]).abs().max(f64::MIN_POSITIVE),
+            (other[1] - here[1]).abs(),
+        ];
+    }
+    (errors, fold)
+}
+
+/// The bound for a split_frame table: the sloped tables' interpolation errors propagated
+/// to F as for thread_frame (their ⟨P⟩ weighted by the sloped share), plus the f32 sample
+/// kernel's relative error for the point masses (module doc, point 4).
+fn split_frame_bound(
+    table: &Table,
+    geometry: &split_frame::Geometry,
+    wi: DVec3,
+    wo: DVec3,
+    cpu: DVec3,
+    floor: DVec3,
+) -> (DVec3, bool) {
+    let planes = table.planes();
+    let albedo = table
+        .fabric
+        .threads()
+        .map(|t| DVec3::from_array(t.albedo_rgb()));
+    let sums = [0, 1].map(|j| geometry.thread_sums(planes, j, wi, wo));
+    let q = geometry.gap * wo.z
+        + (0..2)
+            .map(|j| geometry.coverage[j] * sums[j][2])
+            .sum::<f64>();
+    if q <= 0.0 {
+        return (floor, false);
+    }
+    let mut total = floor + cpu.abs() * KERNEL_RELATIVE;
+    let mut folded = false;
+    for (j, slopes) in geometry.tabulated() {
+        let (t, m) = geometry
+            .plane_indices(j)
+            .expect("a tabulated thread has planes");
+        let [r, tr, p, c2] = slopes.geometry.sample(&planes[t], &planes[m], wi, wo);
+        let (errors, fold) = thread_errors(&slopes.geometry, &planes[t], &planes[m], wi, wo);
+        folded |= fold != [0.0; 2];
+        let a = geometry.coverage[j] * slopes.weight;
+        let c = c2.max(1e-8);
+        let d_r = a * p / (c * q);
+        let d_t = albedo[j] * (a * p / q);
+        let d_p = (DVec3::splat(r / c) + albedo[j] * tr - cpu) * (a / q);
+        total += DVec3::splat(d_r * (errors[0] + fold[0]))
+            + d_t.abs() * (errors[1] + fold[1])
+            + d_p.abs() * errors[2];
+    }
+    (total, folded)
+}
+
 /// The error bound of the module doc for one pair, per RGB channel, and whether the pair
 /// lies on the fold u = 0 of a thread (point 3).
 fn bound(table: &Table, wi: DVec3, wo: DVec3, cpu: DVec3) -> (DVec3, bool) {
@@ -102,6 +199,9 @@ fn bound(table: &Table, wi: DVec3, wo: DVec3, cpu: DVec3) -> (DVec3, bool) {
         return (floor, false);
     }
     let planes = table.planes();
+    if let Some(geometry) = table.geometry_as::<split_frame::Geometry>() {
+        return split_frame_bound(table, geometry, wi, wo, cpu, floor);
+    }
     match table.geometry_as::<thread_frame::Geometry>() {
         None => {
             let n = table.resolution as usize;
@@ -131,39 +231,7 @@ fn bound(table: &Table, wi: DVec3, wo: DVec3, cpu: DVec3) -> (DVec3, bool) {
             let mut fold = [[0.0; 2]; 2];
             for (j, thread) in geometry.threads.iter().enumerate() {
                 samples[j] = geometry.sample_thread(planes, j, wi, wo);
-                let coordinates = thread.coordinates(wi, wo);
-                let axes = std::array::from_fn(|a| thread.axes[a].locate(coordinates[a]));
-                let texels: Vec<usize> = quadrilinear_corners(axes)
-                    .map(|(i, _)| thread.texel_index(i) * 2)
-                    .collect();
-                let data = &planes[j].data;
-                let scale = 3.0 * DELTA + 4.0 * EPSILON;
-                errors[j][0] = scale * range(texels.iter().map(|&k| data[k] as f64));
-                errors[j][1] = scale * range(texels.iter().map(|&k| data[k + 1] as f64));
-                let m = thread.masking_axis;
-                let ((x0, x1, _), (y0, y1, _)) =
-                    (m.locate(thread.beta(wi)), m.locate(thread.beta(wo)));
-                let masking = &planes[2 + j];
-                let p_range = range(
-                    [(x0, y0), (x1, y0), (x0, y1), (x1, y1)]
-                        .map(|(x, y)| masking.texel(x, y)[0] as f64),
-                );
-                errors[j][2] = (2.0 * DELTA + 2.0 * EPSILON) * p_range;
-                // On the fold u = 0, f32 may land on the other side, (u, v) → (−u, −v).
-                if coordinates[2] < FOLD_EPSILON {
-                    let [u, v] = [coordinates[2], coordinates[3]];
-                    let other = interpolate(
-                        thread,
-                        &planes[j].data,
-                        [coordinates[0], coordinates[1], u, -v],
-                    );
-                    let here = interpolate(thread, &planes[j].data, coordinates);
-                    // At least a tiny value, marking the pair as on the fold.
-                    fold[j] = [
-                        (other[0] - here[0]).abs().max(f64::MIN_POSITIVE),
-                        (other[1] - here[1]).abs(),
-                    ];
-                }
+                (errors[j], fold[j]) = thread_errors(thread, &planes[j], &planes[2 + j], wi, wo);
             }
             let q: f64 = geometry.gap * wo.z
                 + (0..2)
@@ -277,6 +345,21 @@ fn thread_frame_satin_matches_cpu() {
 #[test]
 fn thread_frame_velvet_matches_cpu() {
     compare("velvet", Layout::THREAD_FRAME, 16, 23);
+}
+
+#[test]
+fn split_frame_satin_back_matches_cpu() {
+    compare(
+        "polyester_satin_charmeuse_back",
+        Layout::SPLIT_FRAME,
+        12,
+        41,
+    );
+}
+
+#[test]
+fn split_frame_linen_matches_cpu() {
+    compare("linen_plain", Layout::SPLIT_FRAME, 12, 43);
 }
 
 #[test]

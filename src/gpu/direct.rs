@@ -4,7 +4,6 @@
 
 use super::{GpuBrdf, GpuContext, GpuError, brdf_entry};
 use crate::model::curve::{Integration, curve_pieces};
-use crate::model::patch::DEGENERATE_PROJECTION;
 use crate::model::{Fabric, Thread};
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
@@ -45,25 +44,7 @@ pub struct DirectParams {
     pub misc: [f32; 4],
 }
 
-/// (−1/(2σ²), 1/(σ√(2π))) of the unit-area Gaussian of standard deviation `sigma` (radians),
-/// as `UnitAreaGaussian::new` prepares it, rounded to f32.
-pub(crate) fn unit_area_gaussian(sigma: f64) -> [f32; 2] {
-    [
-        (-0.5 / (sigma * sigma)) as f32,
-        (1.0 / (sigma * (2.0 * std::f64::consts::PI).sqrt())) as f32,
-    ]
-}
-
-/// The largest f32 strictly below `DEGENERATE_PROJECTION`: for a length that is an f32,
-/// `length <= threshold` in the shader is exactly `length < DEGENERATE_PROJECTION` in f64.
-pub(crate) fn degenerate_threshold() -> f32 {
-    let t = DEGENERATE_PROJECTION as f32;
-    if (t as f64) < DEGENERATE_PROJECTION {
-        t
-    } else {
-        f32::from_bits(t.to_bits() - 1)
-    }
-}
+pub(crate) use crate::table::wgsl::{degenerate_threshold, unit_area_gaussian};
 
 /// Paper-mode nodes of `thread` as (cos α, sin α, weight, 0), cos and sin computed in f64
 /// like the CPU's, then rounded.
@@ -256,13 +237,6 @@ mod tests {
     fn uniform_sizes_match_wgsl() {
         assert_eq!(std::mem::size_of::<DirectThread>(), 6 * 16);
         assert_eq!(std::mem::size_of::<DirectParams>(), 2 * 6 * 16 + 16);
-    }
-
-    #[test]
-    fn threshold_is_the_f32_just_below_the_model_threshold() {
-        let t = degenerate_threshold();
-        assert!((t as f64) < DEGENERATE_PROJECTION);
-        assert!(f32::from_bits(t.to_bits() + 1) as f64 >= DEGENERATE_PROJECTION);
     }
 
     #[test]

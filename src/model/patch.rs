@@ -170,6 +170,19 @@ impl ThreadModel {
         sums
     }
 
+    /// The weighted sums of single tangent samples at the offsets `points` (α, given as
+    /// (cos α, sin α, weight)): a curve's point masses (flat segments) alone, whatever this
+    /// model's own curve. Each sample as [`Self::means`] weighs a point piece.
+    pub fn point_sums(&self, wi: DVec3, wo: DVec3, points: &[(f64, f64, f64)]) -> ThreadMeans {
+        let mut sums = ThreadMeans::default();
+        if let Some((pair, _)) = self.pair_frame(wi, wo) {
+            for &(cos_a, sin_a, weight) in points {
+                self.accumulate(&pair, cos_a, sin_a, weight, &mut sums);
+            }
+        }
+        sums
+    }
+
     /// For the resonant rule, the means together with what they cost; `None` for other rules.
     pub fn resonant_means(&self, wi: DVec3, wo: DVec3) -> Option<(ThreadMeans, ResonantCost)> {
         let rule = self.resonant.as_ref()?;

@@ -170,10 +170,35 @@ impl AxisF32 {
                 };
                 gs[k] + (v - vs[k]) * slopes[k]
             }
-            WarpF32::SinEnds { c, scale } => {
-                super::fast_math::asin(v * c) * scale + 0.5 * self.last
+            WarpF32::SinEnds { c, .. } => {
+                return self.locate_sin_ends(super::fast_math::asin(v * c));
             }
         };
+        self.split(g)
+    }
+
+    /// For a `SinEnds` axis, the factor c of its warp's asin argument `v·c` (see
+    /// [`Self::locate_sin_ends`]).
+    pub fn sin_ends_factor(&self) -> Option<f32> {
+        match self.warp {
+            WarpF32::SinEnds { c, .. } => Some(c),
+            _ => None,
+        }
+    }
+
+    /// [`Self::locate`] of a `SinEnds` axis given `asin(v·c)`, computed by the caller (the
+    /// thread_frame lookup computes it with other angles in one four-lane atan2).
+    #[inline(always)]
+    pub fn locate_sin_ends(&self, asin_vc: f32) -> (usize, f32) {
+        let WarpF32::SinEnds { scale, .. } = self.warp else {
+            unreachable!("locate_sin_ends on a SinEnds axis only")
+        };
+        self.split(asin_vc * scale + 0.5 * self.last)
+    }
+
+    /// The texel pair around continuous texel coordinate `g`, clamped to the axis.
+    #[inline(always)]
+    fn split(&self, g: f32) -> (usize, f32) {
         let g = g.clamp(0.0, self.last);
         // g ≥ 0 after the clamp: a plain i32 conversion (Rust's `as usize` from f32
         // saturates, which costs branches in this hot path).

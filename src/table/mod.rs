@@ -19,6 +19,7 @@ pub mod axis;
 pub mod fast_math;
 pub mod grid4d;
 pub mod octahedral;
+pub mod split_frame;
 pub mod thread_frame;
 pub mod wgsl;
 
@@ -107,8 +108,9 @@ pub struct Layout(&'static dyn LayoutUnit);
 impl Layout {
     pub const THREAD_FRAME: Layout = Layout(&thread_frame::ThreadFrame);
     pub const GRID4D: Layout = Layout(&grid4d::Grid4d);
+    pub const SPLIT_FRAME: Layout = Layout(&split_frame::SplitFrame);
     /// The registry: every layout, the default first.
-    pub const ALL: &'static [Layout] = &[Layout::THREAD_FRAME, Layout::GRID4D];
+    pub const ALL: &'static [Layout] = &[Layout::THREAD_FRAME, Layout::SPLIT_FRAME, Layout::GRID4D];
     /// The layout `bake` uses when none is given.
     pub const DEFAULT: Layout = Layout::THREAD_FRAME;
 

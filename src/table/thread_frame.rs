@@ -142,7 +142,11 @@ impl LayoutUnit for ThreadFrame {
     }
 
     fn wgsl_source(&self) -> &'static str {
-        include_str!("../../shaders/thread_frame.wgsl")
+        concat!(
+            include_str!("../../shaders/thread_frame_sample.wgsl"),
+            "\n",
+            include_str!("../../shaders/thread_frame.wgsl")
+        )
     }
 }
 
@@ -156,6 +160,47 @@ const BETA_FOCUS: f64 = 0.7;
 const BETA_TEXELS_PER_SIGMA: f64 = 3.0;
 const MIN_BETA_TEXELS: usize = 16;
 const THETA_WARP_K: f64 = 1.4;
+
+/// How a thread's axes are sized: βH texels per σs on the ridge band and the share of the
+/// axis the band gets, the texels of θd', u and v per unit of resolution, and the θd'
+/// warp strength. The thread_frame layout uses [`AxisPlan::THREAD_FRAME`]; other layouts
+/// that tabulate a thread in the same coordinates choose their own.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisPlan {
+    pub beta_texels_per_sigma: f64,
+    pub beta_focus: f64,
+    /// θd', u, v texels = these × resolution (at least 4, 3, 4).
+    pub inner_per_resolution: [f64; 3],
+    pub theta_warp_k: f64,
+}
+
+impl AxisPlan {
+    pub const THREAD_FRAME: AxisPlan = AxisPlan {
+        beta_texels_per_sigma: BETA_TEXELS_PER_SIGMA,
+        beta_focus: BETA_FOCUS,
+        inner_per_resolution: [1.0, 0.29, 0.83],
+        theta_warp_k: THETA_WARP_K,
+    };
+
+    /// Texels of the non-βH axes (θd', u, v) at `resolution`.
+    pub fn inner_texels(&self, resolution: u32) -> [usize; 3] {
+        let r = resolution as f64;
+        let [t, u, v] = self.inner_per_resolution;
+        [
+            ((t * r).round() as usize).max(4),
+            ((u * r).round() as usize).max(3),
+            ((v * r).round() as usize).max(4),
+        ]
+    }
+
+    /// βH texels of thread `index` of `fabric` before any byte budget: the plan's texels
+    /// per σs on the ridge band, at least 16.
+    pub fn beta_texels(&self, fabric: &Fabric, index: usize) -> usize {
+        let (lo, hi, sigma_s) = ridge_band(fabric, index);
+        (((hi - lo) / sigma_s * self.beta_texels_per_sigma / self.beta_focus).ceil() as usize)
+            .max(MIN_BETA_TEXELS)
+    }
+}
 
 /// One thread's lookup geometry.
 #[derive(Clone, Debug, PartialEq)]
@@ -197,25 +242,12 @@ fn ridge_band(fabric: &Fabric, index: usize) -> (f64, f64, f64) {
     (lo, hi, sigma_s)
 }
 
-/// Texels of the non-βH axes (θd', u, v) at `resolution`.
-fn inner_texels(resolution: u32) -> [usize; 3] {
-    let r = resolution as f64;
-    [
-        (resolution as usize).max(4),
-        ((0.29 * r).round() as usize).max(3),
-        ((0.83 * r).round() as usize).max(4),
-    ]
-}
-
 /// βH texels of both threads: 3 per σs on each ridge band, scaled down together (to at
 /// least 16 each) when the table would exceed [`BYTE_BUDGET`].
 fn beta_texels(fabric: &Fabric, resolution: u32) -> [usize; 2] {
-    let wanted = [0, 1].map(|j| {
-        let (lo, hi, sigma_s) = ridge_band(fabric, j);
-        (((hi - lo) / sigma_s * BETA_TEXELS_PER_SIGMA / BETA_FOCUS).ceil() as usize)
-            .max(MIN_BETA_TEXELS)
-    });
-    let slice_bytes: usize = inner_texels(resolution).iter().product::<usize>() * 2 * 2;
+    let plan = AxisPlan::THREAD_FRAME;
+    let wanted = [0, 1].map(|j| plan.beta_texels(fabric, j));
+    let slice_bytes: usize = plan.inner_texels(resolution).iter().product::<usize>() * 2 * 2;
     let masking_bytes = 2 * MASKING_TEXELS * MASKING_TEXELS * 2;
     let available = BYTE_BUDGET.saturating_sub(masking_bytes) / slice_bytes;
     let total = wanted[0] + wanted[1];
@@ -227,12 +259,24 @@ fn beta_texels(fabric: &Fabric, resolution: u32) -> [usize; 2] {
 }
 
 impl ThreadGeometry {
-    /// The axes of thread `index` of `fabric` at `resolution`.
+    /// The axes of thread `index` of `fabric` at `resolution` in the thread_frame layout.
     pub fn new(fabric: &Fabric, index: usize, resolution: u32) -> Self {
+        let n_beta = beta_texels(fabric, resolution)[index];
+        Self::planned(fabric, index, resolution, n_beta, &AxisPlan::THREAD_FRAME)
+    }
+
+    /// The axes of thread `index` of `fabric` at `resolution` by `plan`, with `n_beta` βH
+    /// texels.
+    pub fn planned(
+        fabric: &Fabric,
+        index: usize,
+        resolution: u32,
+        n_beta: usize,
+        plan: &AxisPlan,
+    ) -> Self {
         let (t0, b) = thread_frame_of(index);
         let (lo, hi, _) = ridge_band(fabric, index);
-        let n_beta = beta_texels(fabric, resolution)[index];
-        let [n_theta, n_u, n_v] = inner_texels(resolution);
+        let [n_theta, n_u, n_v] = plan.inner_texels(resolution);
         let beta = if hi - lo > 0.9 * PI {
             Axis::clamped(
                 n_beta,
@@ -244,7 +288,7 @@ impl ThreadGeometry {
         } else {
             // The two outer parts share the remaining texels in proportion to their length.
             let (left, right) = ((lo + FRAC_PI_2).max(1e-6), (FRAC_PI_2 - hi).max(1e-6));
-            let x1 = (1.0 - BETA_FOCUS) * left / (left + right);
+            let x1 = (1.0 - plan.beta_focus) * left / (left + right);
             let vs = [
                 -FRAC_PI_2,
                 lo.max(-FRAC_PI_2 + 1e-6),
@@ -254,7 +298,7 @@ impl ThreadGeometry {
             Axis::clamped(
                 n_beta,
                 Warp::Knots {
-                    xs: [0.0, x1, x1 + BETA_FOCUS, 1.0],
+                    xs: [0.0, x1, x1 + plan.beta_focus, 1.0],
                     vs,
                 },
             )
@@ -269,7 +313,7 @@ impl ThreadGeometry {
                     n_theta,
                     Warp::SinEnds {
                         hi: theta_limit,
-                        k: THETA_WARP_K,
+                        k: plan.theta_warp_k,
                     },
                 ),
                 Axis::clamped(
@@ -313,6 +357,120 @@ impl ThreadGeometry {
     pub fn texel_index(&self, i: [usize; 4]) -> usize {
         let n = self.axes.map(|a| a.texels);
         ((i[2] * n[3] + i[3]) * n[1] + i[1]) * n[0] + i[0]
+    }
+
+    /// This thread's interpolated stored channels, masking and cos²θd' at (wi, wo), from its
+    /// 4D plane `table` and its masking plane: `[reflection, transmission, ⟨P⟩, cos²θd']`.
+    pub fn sample(&self, table: &Plane, masking: &Plane, wi: DVec3, wo: DVec3) -> [f64; 4] {
+        let coordinates = self.coordinates(wi, wo);
+        let axes: [(usize, usize, f64); 4] =
+            std::array::from_fn(|a| self.axes[a].locate(coordinates[a]));
+        let (mut r, mut t) = (0.0, 0.0);
+        for (index, weight) in quadrilinear_corners(axes) {
+            let texel = self.texel_index(index) * 2;
+            r += weight * table.data[texel] as f64;
+            t += weight * table.data[texel + 1] as f64;
+        }
+        let masking = bilinear(masking, self.masking_axis, self.beta(wi), self.beta(wo)).max(0.0);
+        let sin_d = coordinates[1].sin();
+        [r, t, masking, 1.0 - sin_d * sin_d]
+    }
+
+    /// [`Self::sample`] in f32 for one thread alone (scalar [`fast_math`]; the thread_frame
+    /// layout computes both threads' angles together instead). `fast` are this thread's
+    /// axes in f32 (4D axes, then the masking axis).
+    pub fn sample_f32(
+        &self,
+        fast: &[AxisF32; 5],
+        table: &Plane,
+        masking: &Plane,
+        wi: Vec3,
+        wo: Vec3,
+    ) -> [f32; 4] {
+        let along = |w: Vec3| {
+            if self.t0 == DVec3::X {
+                (w.x, w.y)
+            } else {
+                (w.y, w.x)
+            }
+        };
+        let ((wi_t, wi_b), (wo_t, wo_b)) = (along(wi), along(wo));
+        let (h_t, h_z) = (wi_t + wo_t, wi.z + wo.z);
+        let r = (h_t * h_t + h_z * h_z).max(1e-37).sqrt().recip();
+        let (sin_b, cos_b) = (h_t * r, h_z * r);
+        let s = (0.5 * ((wi_t - wo_t) * cos_b - (wi.z - wo.z) * sin_b)).clamp(-1.0, 1.0);
+        let wi_n = wi_t * sin_b + wi.z * cos_b;
+        let wo_n = wo_t * sin_b + wo.z * cos_b;
+        let phi_i = fast_math::atan2(wi_b, wi_n);
+        let phi_o = fast_math::atan2(wo_b, wo_n);
+        let cos2_d = wi_n * wi_n + wi_b * wi_b;
+        let (mut u, mut v) = (0.5 * (phi_i + phi_o), 0.5 * (phi_i - phi_o));
+        if u < 0.0 {
+            (u, v) = (-u, -v);
+        }
+        let theta_d = fast_math::atan2(s, cos2_d.sqrt());
+        let located = [
+            fast[0].locate(fast_math::atan2(h_t, h_z)),
+            fast[1].locate(theta_d),
+            fast[2].locate(u),
+            fast[3].locate(v),
+        ];
+        let [reflection, transmission] = interpolate_f32(self, table, located);
+        let masking = masking_f32(
+            &fast[4],
+            masking,
+            fast_math::atan2(wi_t, wi.z),
+            fast_math::atan2(wo_t, wo.z),
+        );
+        [reflection, transmission, masking, cos2_d]
+    }
+
+    /// The WGSL function `name(wi, wo) -> vec4<f32>` sampling this thread
+    /// (`cloth_sample_thread` of `shaders/thread_frame_sample.wgsl`: reflection, transmission,
+    /// ⟨P⟩, cos²θd') from the 3D texture `table` and layer `layer` of the masking array
+    /// texture `masking`, with its frame and axes as literals.
+    pub fn wgsl_function(&self, name: &str, table: &str, masking: &str, layer: usize) -> String {
+        let n = self.axes.map(|a| a.texels);
+        let swizzle = if self.t0 == DVec3::X { "xyz" } else { "yxz" };
+        let names = ["c.beta_h", "c.theta_d", "c.u", "c.v"];
+        let labels = ["βH", "θd'", "u", "v"];
+        let mut f = format!(
+            "\n// t0 = {t0}, b = {b}; 4D table {table}, ⟨P⟩ in layer {layer} of {masking}.\n\
+             fn {name}(wi: vec3<f32>, wo: vec3<f32>) -> vec4<f32> {{\n    \
+             let c = cloth_thread_coordinates(wi.{swizzle}, wo.{swizzle});\n    \
+             // Continuous texel coordinates of the 4D table (`Axis::locate`).\n    \
+             let g = vec4<f32>(\n",
+            t0 = self.t0,
+            b = self.b,
+        );
+        for a in 0..4 {
+            let (call, about) = AxisF32::wgsl_texel(&self.axes[a], names[a]);
+            let _ = writeln!(
+                f,
+                "        // Axis {a}, {}: {about}.\n        {call},",
+                labels[a]
+            );
+        }
+        let (bi, about) = AxisF32::wgsl_texel(&self.masking_axis, "c.beta_i");
+        let (bo, _) = AxisF32::wgsl_texel(&self.masking_axis, "c.beta_o");
+        let _ = write!(
+            f,
+            "    );\n    // ⟨P⟩ table over (βi, βo): {about} per axis.\n    \
+             let gm = vec2<f32>(\n        {bi},\n        {bo},\n    );\n    \
+             return cloth_sample_thread({table}, {masking}, {layer}, g, vec4<f32>({}, {}, {}, {}), gm, {}, c.cos2_d);\n}}\n",
+            wgsl_f32(n[0] as f64),
+            wgsl_f32(n[1] as f64),
+            wgsl_f32(n[2] as f64),
+            wgsl_f32(n[3] as f64),
+            wgsl_f32(self.masking_axis.texels as f64),
+        );
+        f
+    }
+
+    /// This thread's axes in f32: the four 4D axes, then the masking axis.
+    pub fn fast_axes(&self) -> [AxisF32; 5] {
+        let [a0, a1, a2, a3] = self.axes.each_ref().map(AxisF32::new);
+        [a0, a1, a2, a3, AxisF32::new(&self.masking_axis)]
     }
 
     /// The table coordinates (βH, θd', u, v) of a pair, folded to u ≥ 0.
@@ -362,20 +520,25 @@ pub struct Geometry {
     pub gap: f64,
     /// Per thread, the 4D axes and the masking axis for the f32 lookup.
     fast_axes: [[AxisF32; 5]; 2],
+    /// Per thread, the factor c of its θd' axis's `SinEnds` warp.
+    theta_factors: [f32; 2],
 }
 
 impl Geometry {
     pub fn new(fabric: &Fabric, resolution: u32) -> Self {
         let threads = [0, 1].map(|j| ThreadGeometry::new(fabric, j, resolution));
-        let fast_axes = threads.each_ref().map(|t| {
-            let [a0, a1, a2, a3] = t.axes.each_ref().map(AxisF32::new);
-            [a0, a1, a2, a3, AxisF32::new(&t.masking_axis)]
+        let fast_axes = threads.each_ref().map(ThreadGeometry::fast_axes);
+        let theta_factors = fast_axes.map(|axes| {
+            axes[1]
+                .sin_ends_factor()
+                .expect("the θd' axis is a SinEnds warp")
         });
         Self {
             threads,
             coverage: [fabric.thread1.coverage, fabric.thread2.coverage],
             gap: (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0),
             fast_axes,
+            theta_factors,
         }
     }
 
@@ -400,25 +563,7 @@ impl Geometry {
     /// Thread `j`'s interpolated stored channels, masking and cos²θd' at (wi, wo):
     /// `[reflection, transmission, ⟨P⟩, cos²θd']` (channels as the planes hold them).
     pub fn sample_thread(&self, planes: &[Plane], j: usize, wi: DVec3, wo: DVec3) -> [f64; 4] {
-        let thread = &self.threads[j];
-        let coordinates = thread.coordinates(wi, wo);
-        let axes: [(usize, usize, f64); 4] =
-            std::array::from_fn(|a| thread.axes[a].locate(coordinates[a]));
-        let (mut r, mut t) = (0.0, 0.0);
-        for (index, weight) in quadrilinear_corners(axes) {
-            let texel = thread.texel_index(index) * 2;
-            r += weight * planes[j].data[texel] as f64;
-            t += weight * planes[j].data[texel + 1] as f64;
-        }
-        let masking = bilinear(
-            &planes[2 + j],
-            thread.masking_axis,
-            thread.beta(wi),
-            thread.beta(wo),
-        )
-        .max(0.0);
-        let sin_d = coordinates[1].sin();
-        [r, t, masking, 1.0 - sin_d * sin_d]
+        self.threads[j].sample(&planes[j], &planes[2 + j], wi, wo)
     }
 
     /// The interpolated terms (reflection, transmission1, transmission2), already divided
@@ -464,7 +609,6 @@ impl Geometry {
             Vec4::new(wi_t.x, wi_t.y, wo_t.x, wo_t.y),
             Vec4::new(wi.z, wi.z, wo.z, wo.z),
         );
-        let beta_h = fast_math::atan2_4(Vec4::new(h_t.x, h_t.y, 0.0, 0.0), Vec4::splat(h_z));
         // sin βH, cos βH without trigonometry (as the WGSL does).
         let r2 = (h_t * h_t + h_z * h_z).max(Vec2::splat(1e-37));
         let r = Vec2::new(r2.x.sqrt(), r2.y.sqrt()).recip();
@@ -478,108 +622,48 @@ impl Geometry {
             Vec4::new(wi_n.x, wi_n.y, wo_n.x, wo_n.y),
         );
         // cos²θd' = 1 − (wi·t')² = (wi·n')² + (wi·b)²: the sum keeps f32's relative
-        // precision as θd' → ±90°, where 1 − s² cancels to 0.
+        // precision as θd' → ±90°, where 1 − s² cancels to 0. θd' = atan2(s, cos θd')
+        // (= asin s) shares a four-lane call with βH.
         let cos2_d = wi_n * wi_n + wi_b * wi_b;
+        let cos_d = Vec2::new(cos2_d.x.sqrt(), cos2_d.y.sqrt());
+        let angles = fast_math::atan2_4(
+            Vec4::new(h_t.x, h_t.y, s.x, s.y),
+            Vec4::new(h_z, h_z, cos_d.x, cos_d.y),
+        );
+        let (beta_h, theta_d) = ([angles.x, angles.y], [angles.z, angles.w]);
+        // The θd' axes are `SinEnds` warps: their asin(θd'·c) = atan2(z, √(1 − z²)), in one
+        // more call for both threads.
+        let z = Vec2::new(
+            theta_d[0] * self.theta_factors[0],
+            theta_d[1] * self.theta_factors[1],
+        )
+        .clamp(Vec2::splat(-1.0), Vec2::ONE);
+        let zc = (Vec2::ONE - z * z).max(Vec2::ZERO);
+        let theta_asin = fast_math::atan2_4(
+            Vec4::new(z.x, z.y, 0.0, 0.0),
+            Vec4::new(zc.x.sqrt(), zc.y.sqrt(), 1.0, 1.0),
+        );
         [0, 1].map(|j| {
+            let axes = &self.fast_axes[j];
             let (mut u, mut v) = (0.5 * (phi[j] + phi[2 + j]), 0.5 * (phi[j] - phi[2 + j]));
             if u < 0.0 {
                 (u, v) = (-u, -v);
             }
-            let masking = self.masking_f32(planes, j, masking_angles[j], masking_angles[2 + j]);
-            let [reflection, transmission] =
-                self.interpolate_f32(planes, j, [beta_h[j], fast_math::asin(s[j]), u, v]);
+            let masking = masking_f32(
+                &axes[4],
+                &planes[2 + j],
+                masking_angles[j],
+                masking_angles[2 + j],
+            );
+            let located = [
+                axes[0].locate(beta_h[j]),
+                axes[1].locate_sin_ends(theta_asin[j]),
+                axes[2].locate(u),
+                axes[3].locate(v),
+            ];
+            let [reflection, transmission] = interpolate_f32(&self.threads[j], &planes[j], located);
             [reflection, transmission, masking, cos2_d[j]]
         })
-    }
-
-    /// Thread `j`'s ⟨P⟩ at (βi, βo), bilinearly, in f32.
-    #[inline(always)]
-    fn masking_f32(&self, planes: &[Plane], j: usize, beta_i: f32, beta_o: f32) -> f32 {
-        let axis = &self.fast_axes[j][4];
-        let (x0, fx) = axis.locate(beta_i);
-        let (y0, fy) = axis.locate(beta_o);
-        let plane = &planes[2 + j].data;
-        let at = |x: usize, y: usize| plane[y * MASKING_TEXELS + x];
-        ((1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x0 + 1, y0))
-            + fy * ((1.0 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)))
-        .max(0.0)
-    }
-
-    /// Thread `j`'s stored channels (reflection, transmission) at table coordinates
-    /// (βH, θd', u, v), quadrilinearly, in f32.
-    #[inline(always)]
-    fn interpolate_f32(&self, planes: &[Plane], j: usize, coordinates: [f32; 4]) -> [f32; 2] {
-        let thread = &self.threads[j];
-        let axes = &self.fast_axes[j];
-        let [(i0, f0), (i1, f1), (i2, f2), (i3, f3)] =
-            std::array::from_fn(|a| axes[a].locate(coordinates[a]));
-        let n = thread.axes.map(|a| a.texels);
-        // Plane row (i2·N3 + i3)·N1 + i1, column i0, two channels per texel: in f32 units
-        // the corners along axis 0 are 2 apart, along axis 1 s1, along v s3, along u s2.
-        let (s1, s3) = (2 * n[0], 2 * n[0] * n[1]);
-        let s2 = s3 * n[3];
-        let base = 2 * (((i2 * n[3] + i3) * n[1] + i1) * n[0] + i0);
-        let data = &planes[j].data;
-        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        // Bilinear over axes 0 and 1 of both channels at the corner block starting at `at`
-        // (one slice bounds check for its four texels).
-        let bilinear = |at: usize| -> [f32; 2] {
-            let p = &data[at..at + s1 + 4];
-            [0, 1].map(|c| {
-                lerp(
-                    lerp(p[c], p[c + 2], f0),
-                    lerp(p[s1 + c], p[s1 + c + 2], f0),
-                    f1,
-                )
-            })
-        };
-        let lerp2 = |a: [f32; 2], b: [f32; 2], t: f32| [lerp(a[0], b[0], t), lerp(a[1], b[1], t)];
-        let lower_u = lerp2(bilinear(base), bilinear(base + s3), f3);
-        let upper_u = lerp2(bilinear(base + s2), bilinear(base + s2 + s3), f3);
-        lerp2(lower_u, upper_u, f2)
-    }
-
-    /// The WGSL function `cloth_threadJ(wi, wo)` for thread `j` (0-based): its frame, axes
-    /// and textures as literals.
-    fn thread_wgsl(&self, j: usize) -> String {
-        let thread = &self.threads[j];
-        let n = thread.axes.map(|a| a.texels);
-        let swizzle = if thread.t0 == DVec3::X { "xyz" } else { "yxz" };
-        let names = ["c.beta_h", "c.theta_d", "c.u", "c.v"];
-        let labels = ["βH", "θd'", "u", "v"];
-        let mut f = format!(
-            "\n// Thread {k}: t0 = {t0}, b = {b}; its 4D table in texture {k}, ⟨P⟩ in masking \
-             layer {j}.\nfn cloth_thread{k}(wi: vec3<f32>, wo: vec3<f32>) -> vec4<f32> {{\n    \
-             let c = cloth_thread_coordinates(wi.{swizzle}, wo.{swizzle});\n    \
-             // Continuous texel coordinates of the 4D table (`Axis::locate`).\n    \
-             let g = vec4<f32>(\n",
-            k = j + 1,
-            t0 = thread.t0,
-            b = thread.b,
-        );
-        for a in 0..4 {
-            let (call, about) = AxisF32::wgsl_texel(&thread.axes[a], names[a]);
-            let _ = writeln!(
-                f,
-                "        // Axis {a}, {}: {about}.\n        {call},",
-                labels[a]
-            );
-        }
-        let (bi, about) = AxisF32::wgsl_texel(&thread.masking_axis, "c.beta_i");
-        let (bo, _) = AxisF32::wgsl_texel(&thread.masking_axis, "c.beta_o");
-        let _ = write!(
-            f,
-            "    );\n    // ⟨P⟩ table over (βi, βo): {about} per axis.\n    \
-             let gm = vec2<f32>(\n        {bi},\n        {bo},\n    );\n    \
-             return cloth_sample_thread(cloth_thread{k}_table, {j}, g, vec4<f32>({}, {}, {}, {}), gm, {}, c.cos2_d);\n}}\n",
-            wgsl_f32(n[0] as f64),
-            wgsl_f32(n[1] as f64),
-            wgsl_f32(n[2] as f64),
-            wgsl_f32(n[3] as f64),
-            wgsl_f32(thread.masking_axis.texels as f64),
-            k = j + 1,
-        );
-        f
     }
 }
 
@@ -620,7 +704,12 @@ impl TableLookup for Geometry {
             wgsl_f32(self.gap)
         );
         for j in 0..2 {
-            out += &self.thread_wgsl(j);
+            out += &self.threads[j].wgsl_function(
+                &format!("cloth_thread{}", j + 1),
+                &format!("cloth_thread{}_table", j + 1),
+                "cloth_masking_table",
+                j,
+            );
         }
         out
     }
@@ -636,6 +725,48 @@ impl TableLookup for Geometry {
     fn as_any(&self) -> &dyn Any {
         self
     }
+}
+
+/// A thread's ⟨P⟩ at (βi, βo) from its masking plane, bilinearly, in f32.
+#[inline(always)]
+fn masking_f32(axis: &AxisF32, plane: &Plane, beta_i: f32, beta_o: f32) -> f32 {
+    let (x0, fx) = axis.locate(beta_i);
+    let (y0, fy) = axis.locate(beta_o);
+    let at = |x: usize, y: usize| plane.data[y * MASKING_TEXELS + x];
+    ((1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x0 + 1, y0))
+        + fy * ((1.0 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)))
+    .max(0.0)
+}
+
+/// A thread's stored channels (reflection, transmission) from its 4D plane at the located
+/// texel pairs of its four axes (βH, θd', u, v), quadrilinearly, in f32.
+#[inline(always)]
+fn interpolate_f32(thread: &ThreadGeometry, table: &Plane, located: [(usize, f32); 4]) -> [f32; 2] {
+    let [(i0, f0), (i1, f1), (i2, f2), (i3, f3)] = located;
+    let n = thread.axes.map(|a| a.texels);
+    // Plane row (i2·N3 + i3)·N1 + i1, column i0, two channels per texel: in f32 units
+    // the corners along axis 0 are 2 apart, along axis 1 s1, along v s3, along u s2.
+    let (s1, s3) = (2 * n[0], 2 * n[0] * n[1]);
+    let s2 = s3 * n[3];
+    let base = 2 * (((i2 * n[3] + i3) * n[1] + i1) * n[0] + i0);
+    let data = &table.data;
+    let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+    // Bilinear over axes 0 and 1 of both channels at the corner block starting at `at`
+    // (one slice bounds check for its four texels).
+    let bilinear = |at: usize| -> [f32; 2] {
+        let p = &data[at..at + s1 + 4];
+        [0, 1].map(|c| {
+            lerp(
+                lerp(p[c], p[c + 2], f0),
+                lerp(p[s1 + c], p[s1 + c + 2], f0),
+                f1,
+            )
+        })
+    };
+    let lerp2 = |a: [f32; 2], b: [f32; 2], t: f32| [lerp(a[0], b[0], t), lerp(a[1], b[1], t)];
+    let lower_u = lerp2(bilinear(base), bilinear(base + s3), f3);
+    let upper_u = lerp2(bilinear(base + s2), bilinear(base + s2 + s3), f3);
+    lerp2(lower_u, upper_u, f2)
 }
 
 /// The 3D texture of thread `j` (see "GPU textures"): 2 channels, depth N2·(N3 + 2).
@@ -665,14 +796,14 @@ pub fn thread_texture(plane: &Plane, thread: &ThreadGeometry, j: usize) -> Textu
     }
 }
 
-/// Both masking planes as the 2 layers of one one-channel array texture.
+/// Masking planes as the layers of one one-channel array texture (thread_frame: both).
 pub fn masking_texture(planes: &[Plane]) -> TextureData {
     let n = MASKING_TEXELS as u32;
     TextureData {
         name: "masking".into(),
         binding: 6,
         three_d: false,
-        size: [n, n, 2],
+        size: [n, n, planes.len() as u32],
         channels: 1,
         texels: planes
             .iter()
@@ -774,7 +905,7 @@ pub fn encode_thread(means: &[[f64; 3]], geometry: &ThreadGeometry) -> Vec<[f64;
 /// Across u = 0 the table is glued to itself by the fold (u, v) → (−u, −v): the neighbour
 /// of texel (u = 0, v) below u = 0 is the texel (u₁, −v). Using it keeps the filled u = 0
 /// slice symmetric in v, as the function is, so lookups do not jump across the fold.
-fn fill_undefined(data: &mut [[f64; 2]], dims: [usize; 4]) {
+pub(crate) fn fill_undefined(data: &mut [[f64; 2]], dims: [usize; 4]) {
     let strides = [1, dims[0], dims[0] * dims[1], dims[0] * dims[1] * dims[2]];
     let folded_neighbour = |k: usize| {
         let i_v = (k / strides[2]) % dims[2];

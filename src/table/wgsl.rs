@@ -2,6 +2,7 @@
 //! layout's own WGSL file, specialised for the table by a generated block of constants.
 
 use super::Table;
+use crate::model::patch::DEGENERATE_PROJECTION;
 use std::fmt::Write;
 
 /// The part of the lookup every layout shares (see its header).
@@ -68,6 +69,26 @@ pub fn wgsl_f32(v: f64) -> String {
     }
 }
 
+/// (−1/(2σ²), 1/(σ√(2π))) of the unit-area Gaussian of standard deviation `sigma` (radians),
+/// as `UnitAreaGaussian::new` prepares it, rounded to f32.
+pub fn unit_area_gaussian(sigma: f64) -> [f32; 2] {
+    [
+        (-0.5 / (sigma * sigma)) as f32,
+        (1.0 / (sigma * (2.0 * std::f64::consts::PI).sqrt())) as f32,
+    ]
+}
+
+/// The largest f32 strictly below `DEGENERATE_PROJECTION`: for a length that is an f32,
+/// `length <= threshold` in the shader is exactly `length < DEGENERATE_PROJECTION` in f64.
+pub fn degenerate_threshold() -> f32 {
+    let t = DEGENERATE_PROJECTION as f32;
+    if (t as f64) < DEGENERATE_PROJECTION {
+        t
+    } else {
+        f32::from_bits(t.to_bits() - 1)
+    }
+}
+
 /// `vec3<f32>(…)` of three values.
 pub fn wgsl_vec3(v: [f64; 3]) -> String {
     format!(
@@ -82,6 +103,13 @@ pub fn wgsl_vec3(v: [f64; 3]) -> String {
 mod tests {
     use super::*;
     use crate::table::{Layout, Plane};
+
+    #[test]
+    fn threshold_is_the_f32_just_below_the_model_threshold() {
+        let t = degenerate_threshold();
+        assert!((t as f64) < DEGENERATE_PROJECTION);
+        assert!(f32::from_bits(t.to_bits() + 1) as f64 >= DEGENERATE_PROJECTION);
+    }
 
     #[test]
     fn literals_round_trip_f32() {

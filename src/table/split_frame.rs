@@ -1,0 +1,560 @@
+//! Layout `split_frame`: each thread's curve split into its point masses, evaluated exactly
+//! at lookup, and its sloped segments, tabulated in the thread's resonant frame as
+//! [`super::thread_frame`] tabulates a whole thread.
+//!
+//! # Why
+//! A flat segment of a tangent curve is a point mass of the curve's density of tangent
+//! offsets. In a table over (βH, θd', u, v) it makes a ridge as narrow as the surface lobe,
+//! and its masking factors M and P have kinks along the great circles w·n(α_k) = 0 (for a
+//! float at α_k = 0, the horizon itself) that cut through texels; a 4D table of the whole
+//! curve converges slowly near them (measured: 2–10% relative RMS at 4–5 MiB for the four
+//! fabrics with floats, most of it from such pairs). One tangent sample is cheap to evaluate
+//! exactly, so the point masses are taken out of the table and evaluated at lookup: a thread
+//! that is a single point (the straight weft of crepe, both satins and shot silk) needs no
+//! table at all. What remains tabulated is the smooth convolution of the sloped segments.
+//!
+//! # Planes and lookup
+//! For thread j let the curve's density of tangent offsets be
+//! `Σ_k w_k δ(α − α_k) + w_c D_c`: point masses α_k with their shares w_k of the arc length
+//! (its flat segments, or every control point with `tangent_sampling = "control_points"`)
+//! and the sloped segments with share `w_c = 1 − Σ w_k`, `D_c` their own normalised density.
+//! For every thread with sloped segments the table holds the planes of a
+//! [`super::thread_frame`] thread baked from `D_c` alone (`threadJ`: channels
+//! `reflection` = R_c·cos²θd'/⟨P⟩_c and `transmission` = T_c/⟨P⟩_c over (βH, θd', u, v);
+//! `maskingJ`: ⟨P⟩_c over (βi, βo), 129²), with the axes of [`PLAN`]: 1.2 βH texels per σs
+//! on the band of the sloped segments' ridges, θd' R texels (`SinEnds`, k = 1.2), u 0.56R,
+//! v 0.84R. Thread planes come first, then masking planes, both in thread order.
+//!
+//! Texels whose directions fall below the horizon hold the function continued past it with
+//! its one-sided slope: with w⁺ = normalize(w.x, w.y, max(w.z, 10⁻⁶)) and
+//! wᵐ = normalize(w.x, w.y, |w.z|), the stored ratios ρ are `max(2ρ(w⁺) − ρ(wᵐ), 0)`
+//! (each ρ with its own pair's cos²θd'), where baking the model there instead would carry
+//! the kinks of the samples that stop facing the directions into the last texel inside.
+//!
+//! A lookup for thread j sums, over its point masses, the single-sample terms
+//! (`ThreadModel::point_sums`: w_k·R_k, w_k·T_k, w_k·P_k, exactly as the direct evaluation
+//! weighs a flat segment), and for the sloped part `w_c⟨P⟩_c` times the interpolated ratios
+//! (reflection divided by cos²θd' as in thread_frame); then
+//! `Q = Σ_j a_j (Σ_k w_k P_k + w_c⟨P⟩_c) + (1 − a1 − a2)·wo.z` and `F = Σ_j a_j ⟨s⟩_j / Q`.
+//!
+//! # GPU textures
+//! The sloped tables as thread_frame arranges them (bindings 4 and 5, 3D, only for threads
+//! that have one) and their masking planes in one array texture (binding 6, layer = the
+//! thread's position among those with a table). Per light: two filtered fetches per sloped
+//! table and one per masking plane (0–6 in all: linen and velvet 6, crepe, satin and shot
+//! silk 3), plus one evaluation of the shared sample kernel (`shaders/sample.wgsl`) per
+//! point mass (linen and velvet 0, crepe 3, satin 4, satin back 5, shot silk 3).
+
+use super::axis::AxisF32;
+use super::thread_frame::{self, AxisPlan, MASKING_FLOOR, ThreadGeometry};
+use super::wgsl::{degenerate_threshold, unit_area_gaussian, wgsl_f32, wgsl_vec3};
+use super::{LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
+use crate::model::curve::{Integration, curve_pieces};
+use crate::model::fabric::TangentSampling;
+use crate::model::patch::ThreadModel;
+use crate::model::{Fabric, Thread};
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+use std::any::Any;
+use std::fmt::Write;
+use std::sync::Arc;
+
+/// The axes of the sloped tables (see the module doc). Measured on the six fabrics: βH
+/// needs fewer texels once the point masses' sharp ridges are gone (3 → 1.2 per σs lost
+/// nothing), and u more (doubling it from thread_frame's 0.29R took velvet from 2.7% to
+/// 1.9%).
+pub const PLAN: AxisPlan = AxisPlan {
+    beta_texels_per_sigma: 1.2,
+    beta_focus: 0.7,
+    inner_per_resolution: [1.0, 0.56, 0.84],
+    theta_warp_k: 1.2,
+};
+
+/// The layout unit `split_frame`.
+pub struct SplitFrame;
+
+impl LayoutUnit for SplitFrame {
+    fn name(&self) -> &'static str {
+        "split_frame"
+    }
+
+    fn default_resolution(&self) -> u32 {
+        32
+    }
+
+    /// At 64: 64 × 36 × 54 texels per βH slice, at most ~130 slices: 64 MiB.
+    fn max_resolution(&self) -> u32 {
+        64
+    }
+
+    fn resolution_ladder(&self) -> &'static [u32] {
+        &[16, 20, 24, 32, 40, 48]
+    }
+
+    fn report_resolutions(&self, quick: bool) -> &'static [u32] {
+        if quick { &[16, 32] } else { &[16, 24, 32, 40] }
+    }
+
+    fn integration(&self) -> &'static str {
+        "baking: per-segment midpoint rule over the sloped segments, alpha spacing <= min(2 deg, sigma/6); point masses evaluated at lookup"
+    }
+
+    fn plane_specs(&self, fabric: &Fabric, resolution: u32) -> Vec<PlaneSpec> {
+        let geometry = Geometry::new(fabric, resolution);
+        let mut specs: Vec<PlaneSpec> = geometry
+            .tabulated()
+            .map(|(j, t)| t.geometry.spec(j))
+            .collect();
+        specs.extend(geometry.tabulated().map(|(j, _)| {
+            PlaneSpec::new(
+                format!("masking{}", j + 1),
+                thread_frame::MASKING_TEXELS,
+                thread_frame::MASKING_TEXELS,
+                &["masking"],
+            )
+        }));
+        specs
+    }
+
+    fn bake_rows(&self, fabric: &Fabric, resolution: u32) -> u64 {
+        let geometry = Geometry::new(fabric, resolution);
+        geometry
+            .tabulated()
+            .map(|(j, t)| t.geometry.spec(j).height as u64)
+            .sum()
+    }
+
+    fn bake(&self, fabric: &Fabric, resolution: u32, on_row: &(dyn Fn() + Sync)) -> Vec<Vec<f64>> {
+        let geometry = Geometry::new(fabric, resolution);
+        let mut tables = Vec::new();
+        let mut masking = Vec::new();
+        for (j, slopes) in geometry.tabulated() {
+            tables.push(bake_slopes(&slopes.fabric, &slopes.geometry, j, on_row));
+            masking.push(thread_frame::bake_masking(
+                &slopes.fabric,
+                &slopes.geometry,
+                j,
+            ));
+        }
+        tables.extend(masking);
+        tables
+    }
+
+    fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup> {
+        Arc::new(Geometry::new(fabric, resolution))
+    }
+
+    fn wgsl_source(&self) -> &'static str {
+        concat!(
+            include_str!("../../shaders/thread_frame_sample.wgsl"),
+            "\n",
+            include_str!("../../shaders/sample.wgsl"),
+            "\n",
+            include_str!("../../shaders/split_frame.wgsl")
+        )
+    }
+}
+
+/// The sloped segments of one thread, tabulated.
+#[derive(Clone, Debug)]
+pub struct Slopes {
+    /// The fabric with this thread's curve replaced by its sloped segments alone.
+    pub fabric: Fabric,
+    pub geometry: ThreadGeometry,
+    fast_axes: [AxisF32; 5],
+    /// w_c, their share of the curve's arc length.
+    pub weight: f64,
+}
+
+/// One thread of a split_frame table.
+#[derive(Clone, Debug)]
+pub struct SplitThread {
+    /// Point masses as (cos α_k, sin α_k, w_k).
+    pub points: Vec<(f64, f64, f64)>,
+    pub slopes: Option<Slopes>,
+    /// Evaluates single tangent samples of this thread (its curve is not used).
+    model: ThreadModel,
+    /// What the WGSL sample kernel needs: base tangent, rotation axis, σs, σv, σu (radians),
+    /// η, kd.
+    kernel: Kernel,
+}
+
+#[derive(Clone, Debug)]
+struct Kernel {
+    t0: DVec3,
+    b: DVec3,
+    sigmas: [f64; 3],
+    eta: f64,
+    kd: f64,
+}
+
+/// The lookup geometry of a split_frame table.
+#[derive(Clone, Debug)]
+pub struct Geometry {
+    pub threads: [SplitThread; 2],
+    pub coverage: [f64; 2],
+    pub gap: f64,
+    /// Per thread, the indices of its 4D and masking planes, if it has sloped segments.
+    planes: [Option<(usize, usize)>; 2],
+}
+
+/// A thread's sloped segments as a thread of their own (zero-length jumps between them),
+/// or `None` when the curve has none (a single point, only flat segments, or control-point
+/// sampling).
+fn sloped_part(thread: &Thread, sampling: TangentSampling) -> Option<Thread> {
+    let offsets = &thread.offsets_deg;
+    if sampling == TangentSampling::ControlPoints || offsets.len() < 2 {
+        return None;
+    }
+    let single = offsets.len() == 2;
+    let (mut part_offsets, mut part_lengths) = (Vec::new(), Vec::new());
+    for k in 0..offsets.len() - 1 {
+        let length = if single { 1.0 } else { thread.lengths[k] };
+        if offsets[k] == offsets[k + 1] || length <= 0.0 {
+            continue;
+        }
+        if !part_offsets.is_empty() {
+            part_lengths.push(0.0);
+        }
+        part_offsets.extend([offsets[k], offsets[k + 1]]);
+        part_lengths.push(length);
+    }
+    (!part_offsets.is_empty()).then(|| Thread {
+        offsets_deg: part_offsets,
+        lengths: part_lengths,
+        ..thread.clone()
+    })
+}
+
+impl Geometry {
+    pub fn new(fabric: &Fabric, resolution: u32) -> Self {
+        let threads = [0, 1].map(|j| {
+            let thread = fabric.threads()[j];
+            let points: Vec<(f64, f64, f64)> =
+                curve_pieces(thread, &fabric.options, Integration::Direct)
+                    .into_iter()
+                    .filter(|p| p.start == p.end)
+                    .map(|p| (p.start.cos(), p.start.sin(), p.weight))
+                    .collect();
+            let weight = 1.0 - points.iter().map(|p| p.2).sum::<f64>();
+            let slopes = sloped_part(thread, fabric.options.tangent_sampling)
+                .filter(|_| weight > 1e-12)
+                .map(|part| {
+                    let mut sub = fabric.clone();
+                    *(if j == 0 {
+                        &mut sub.thread1
+                    } else {
+                        &mut sub.thread2
+                    }) = part;
+                    let n_beta = PLAN.beta_texels(&sub, j);
+                    let geometry = ThreadGeometry::planned(&sub, j, resolution, n_beta, &PLAN);
+                    Slopes {
+                        fast_axes: geometry.fast_axes(),
+                        geometry,
+                        fabric: sub,
+                        weight,
+                    }
+                });
+            let options = &fabric.options;
+            SplitThread {
+                points,
+                slopes,
+                model: ThreadModel::new(fabric, j, Integration::Direct),
+                kernel: Kernel {
+                    t0: if j == 0 { DVec3::X } else { DVec3::Y },
+                    b: if j == 0 { DVec3::Y } else { DVec3::X },
+                    sigmas: [
+                        options.lobe_sigma_deg(thread.gamma_s_deg).to_radians(),
+                        options.lobe_sigma_deg(thread.gamma_v_deg).to_radians(),
+                        options.sigma_u_deg.to_radians(),
+                    ],
+                    eta: thread.eta,
+                    kd: thread.kd,
+                },
+            }
+        });
+        let tabulated: Vec<usize> = (0..2).filter(|&j| threads[j].slopes.is_some()).collect();
+        let planes = [0, 1].map(|j| {
+            tabulated
+                .iter()
+                .position(|&k| k == j)
+                .map(|at| (at, tabulated.len() + at))
+        });
+        Self {
+            threads,
+            coverage: [fabric.thread1.coverage, fabric.thread2.coverage],
+            gap: (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0),
+            planes,
+        }
+    }
+
+    /// The threads with sloped segments, in order.
+    pub fn tabulated(&self) -> impl Iterator<Item = (usize, &Slopes)> {
+        (0..2).filter_map(|j| self.threads[j].slopes.as_ref().map(|s| (j, s)))
+    }
+
+    /// The indices of thread `j`'s 4D plane and masking plane, if it has sloped segments.
+    pub fn plane_indices(&self, j: usize) -> Option<(usize, usize)> {
+        self.planes[j]
+    }
+
+    /// Thread `j`'s curve sums (reflection, transmission, ⟨P⟩), reflection divided by
+    /// cos²θd' where it comes from the table (see the module doc).
+    pub fn thread_sums(&self, planes: &[Plane], j: usize, wi: DVec3, wo: DVec3) -> [f64; 3] {
+        let thread = &self.threads[j];
+        let points = thread.model.point_sums(wi, wo, &thread.points);
+        let mut sums = [points.reflection, points.transmission, points.masking];
+        if let (Some(slopes), Some((table, masking))) = (&thread.slopes, self.planes[j]) {
+            let [r, t, p, cos2_d] =
+                slopes
+                    .geometry
+                    .sample(&planes[table], &planes[masking], wi, wo);
+            let p = slopes.weight * p;
+            sums[0] += r * p / cos2_d.max(1e-8);
+            sums[1] += t * p;
+            sums[2] += p;
+        }
+        sums
+    }
+
+    /// [`Self::thread_sums`] in f32 for the table part (the point masses by the f64 model).
+    fn thread_sums_f32(&self, planes: &[Plane], j: usize, wi: Vec3, wo: Vec3) -> [f32; 3] {
+        let thread = &self.threads[j];
+        let points = thread
+            .model
+            .point_sums(wi.as_dvec3(), wo.as_dvec3(), &thread.points);
+        let mut sums = [
+            points.reflection as f32,
+            points.transmission as f32,
+            points.masking as f32,
+        ];
+        if let (Some(slopes), Some((table, masking))) = (&thread.slopes, self.planes[j]) {
+            let [r, t, p, cos2_d] = slopes.geometry.sample_f32(
+                &slopes.fast_axes,
+                &planes[table],
+                &planes[masking],
+                wi,
+                wo,
+            );
+            let p = slopes.weight as f32 * p;
+            sums[0] += r * p / cos2_d.max(1e-8);
+            sums[1] += t * p;
+            sums[2] += p;
+        }
+        sums
+    }
+
+    /// `cloth_split_threadJ(wi, wo)`: thread j's sums as [`Self::thread_sums`], in WGSL.
+    fn thread_wgsl(&self, j: usize) -> String {
+        let k = j + 1;
+        let thread = &self.threads[j];
+        let mut f = String::new();
+        if let (Some(slopes), Some((table, _))) = (&thread.slopes, self.planes[j]) {
+            f += &slopes.geometry.wgsl_function(
+                &format!("cloth_split_slopes{k}"),
+                &format!("cloth_split_table{k}"),
+                "cloth_split_masking",
+                table,
+            );
+        }
+        let _ = write!(
+            f,
+            "\n// Thread {k}: {} point masses, sloped share {}.\n\
+             fn cloth_split_thread{k}(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {{\n    \
+             var sums = vec3<f32>(0.0);\n",
+            thread.points.len(),
+            thread.slopes.as_ref().map_or(0.0, |s| s.weight)
+        );
+        if !thread.points.is_empty() {
+            let (t0, b) = (thread.kernel.t0, thread.kernel.b);
+            let _ = write!(
+                f,
+                "    let material = {};\n    \
+                 let pair = cloth_sample_pair(wi, wo, {}, {}, material.k_u);\n    \
+                 if pair.par_i > material.threshold && pair.par_o > material.threshold {{\n",
+                self.material_wgsl(j),
+                wgsl_vec3(t0.to_array()),
+                wgsl_vec3(b.to_array()),
+            );
+            for &(cos_a, sin_a, weight) in &thread.points {
+                let _ = writeln!(
+                    f,
+                    "        let s{n} = cloth_sample_terms(pair, material, {}, {});\n        \
+                     sums += {} * vec3<f32>(s{n}.y, s{n}.z + s{n}.w, s{n}.x);",
+                    wgsl_f32(cos_a),
+                    wgsl_f32(sin_a),
+                    wgsl_f32(weight),
+                    n = f.matches("cloth_sample_terms").count(),
+                );
+            }
+            f += "    }\n";
+        }
+        if let Some(slopes) = &thread.slopes {
+            let _ = write!(
+                f,
+                "    let c = cloth_split_slopes{k}(wi, wo);\n    \
+                 let p = {} * c.z;\n    \
+                 sums += vec3<f32>(c.x * p / max(c.w, 1e-8), c.y * p, p);\n",
+                wgsl_f32(slopes.weight)
+            );
+        }
+        f += "    return sums;\n}\n";
+        f
+    }
+
+    /// The `ClothSampleMaterial` of thread `j` as a WGSL literal.
+    fn material_wgsl(&self, j: usize) -> String {
+        let kernel = &self.threads[j].kernel;
+        let [sigma_s, sigma_v, sigma_u] = kernel.sigmas;
+        let [ks, ps] = unit_area_gaussian(sigma_s);
+        let [kv, pv] = unit_area_gaussian(sigma_v);
+        format!(
+            "ClothSampleMaterial(vec4<f32>({}, {}, {}, {}), {}, {}, {}, {}, {})",
+            wgsl_f32(ks as f64),
+            wgsl_f32(ps as f64),
+            wgsl_f32(kv as f64),
+            wgsl_f32(pv as f64),
+            wgsl_f32(kernel.eta),
+            wgsl_f32(kernel.kd),
+            if kernel.eta == 1.0 { "1.0" } else { "0.0" },
+            wgsl_f32(-0.5 / (sigma_u * sigma_u)),
+            wgsl_f32(degenerate_threshold() as f64),
+        )
+    }
+}
+
+impl TableLookup for Geometry {
+    fn terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3] {
+        let sums = [0, 1].map(|j| self.thread_sums(planes, j, wi, wo));
+        let q = self.gap * wo.z + self.coverage[0] * sums[0][2] + self.coverage[1] * sums[1][2];
+        if q <= 0.0 {
+            return [0.0; 3];
+        }
+        [
+            (self.coverage[0] * sums[0][0] + self.coverage[1] * sums[1][0]) / q,
+            self.coverage[0] * sums[0][1] / q,
+            self.coverage[1] * sums[1][1] / q,
+        ]
+    }
+
+    fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3] {
+        let sums = [0, 1].map(|j| self.thread_sums_f32(planes, j, wi, wo));
+        let a = self.coverage.map(|a| a as f32);
+        let q = self.gap as f32 * wo.z + a[0] * sums[0][2] + a[1] * sums[1][2];
+        if q <= 0.0 {
+            return [0.0; 3];
+        }
+        [
+            (a[0] * sums[0][0] + a[1] * sums[1][0]) / q,
+            a[0] * sums[0][1] / q,
+            a[1] * sums[1][1] / q,
+        ]
+    }
+
+    fn wgsl_constants(&self) -> String {
+        let mut out = format!(
+            "// Coverage (a1, a2, gap = 1 − a1 − a2).\nconst CLOTH_COVERAGE = vec3<f32>({}, {}, {});\n",
+            wgsl_f32(self.coverage[0]),
+            wgsl_f32(self.coverage[1]),
+            wgsl_f32(self.gap)
+        );
+        let mut any = false;
+        for (j, _) in self.tabulated() {
+            let _ = writeln!(
+                out,
+                "@group(0) @binding({}) var cloth_split_table{}: texture_3d<f32>;",
+                4 + j,
+                j + 1
+            );
+            any = true;
+        }
+        if any {
+            out += "// ⟨P⟩ of the sloped segments, one layer per tabulated thread.\n\
+                    @group(0) @binding(6) var cloth_split_masking: texture_2d_array<f32>;\n";
+        }
+        for j in 0..2 {
+            out += &self.thread_wgsl(j);
+        }
+        out
+    }
+
+    fn textures(&self, planes: &[Plane]) -> Vec<TextureData> {
+        let mut textures: Vec<TextureData> = self
+            .tabulated()
+            .map(|(j, slopes)| {
+                let (table, _) = self.planes[j].expect("a tabulated thread has planes");
+                thread_frame::thread_texture(&planes[table], &slopes.geometry, j)
+            })
+            .collect();
+        let masking: Vec<Plane> = self
+            .tabulated()
+            .map(|(j, _)| planes[self.planes[j].expect("planes").1].clone())
+            .collect();
+        if !masking.is_empty() {
+            textures.push(thread_frame::masking_texture(&masking));
+        }
+        textures
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// The stored ratios of every texel of thread `index`'s sloped table (`fabric` holds only
+/// its sloped segments), with the horizon rule of the module doc, in plane order.
+fn bake_slopes(
+    fabric: &Fabric,
+    geometry: &ThreadGeometry,
+    index: usize,
+    on_row: &(dyn Fn() + Sync),
+) -> Vec<f64> {
+    let model = ThreadModel::new(fabric, index, Integration::Baking);
+    let n = geometry.axes.map(|a| a.texels);
+    let values: [Vec<f64>; 4] =
+        std::array::from_fn(|a| (0..n[a]).map(|i| geometry.axes[a].texel_value(i)).collect());
+    // (R·cos²θd'/⟨P⟩, T/⟨P⟩) of a pair in its own resonant frame; NaN below the floor.
+    let ratios = |wi: DVec3, wo: DVec3| -> [f64; 2] {
+        let m = model.means(wi, wo);
+        if m.masking < MASKING_FLOOR {
+            return [f64::NAN; 2];
+        }
+        let sin_d = geometry.coordinates(wi, wo)[1].sin();
+        [
+            m.reflection * (1.0 - sin_d * sin_d) / m.masking,
+            m.transmission / m.masking,
+        ]
+    };
+    let lift = |w: DVec3, z: f64| DVec3::new(w.x, w.y, z).normalize();
+    let rows = n[1] * n[2] * n[3];
+    let mut data: Vec<[f64; 2]> = (0..rows)
+        .into_par_iter()
+        .flat_map_iter(|row| {
+            let (i1, i3, i2) = (row % n[1], (row / n[1]) % n[3], row / (n[1] * n[3]));
+            let row_values: Vec<[f64; 2]> = (0..n[0])
+                .map(|i0| {
+                    let (wi, wo) = geometry.directions([
+                        values[0][i0],
+                        values[1][i1],
+                        values[2][i2],
+                        values[3][i3],
+                    ]);
+                    if wi.z >= 0.0 && wo.z >= 0.0 {
+                        return ratios(wi, wo);
+                    }
+                    let above = ratios(lift(wi, wi.z.max(1e-6)), lift(wo, wo.z.max(1e-6)));
+                    let mirror = ratios(lift(wi, wi.z.abs()), lift(wo, wo.z.abs()));
+                    // NaN (a ratio below the floor) propagates and is filled below.
+                    [0, 1].map(|c| {
+                        let v = 2.0 * above[c] - mirror[c];
+                        if v.is_nan() { v } else { v.max(0.0) }
+                    })
+                })
+                .collect();
+            on_row();
+            row_values
+        })
+        .collect();
+    thread_frame::fill_undefined(&mut data, thread_frame::plane_dims(geometry));
+    data.into_iter().flatten().collect()
+}
