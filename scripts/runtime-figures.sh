@@ -7,7 +7,9 @@
 # machine's speed drifts over minutes, so the five renders of a fabric alternate, ROUNDS
 # times (default 3), and each figure is the median of its rounds' medians of FRAMES frames
 # (default 5). Ratios: whole frames, and BRDF work alone (frame − floor).
-# Needs the default tables (clothbake bake). Prints a Markdown table.
+# Needs the default tables (clothbake bake). With ALT_TABLES=DIR (tables of another layout,
+# e.g. `clothbake bake --layout split_frame --out DIR`), the lookup from those tables is
+# rendered in the same rounds and reported in three more columns. Prints a Markdown table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=target/release/clothbake
@@ -25,8 +27,15 @@ median_ms() { # the ms figure of the render command's "median X ms per frame" li
 "$bin" render --width 64 --height 64 --frames 1 --out "$out/probe.png" \
     --fabric "$(awk '{print $1}' <<<"${fabrics//$'\n'/ }")" | grep '^adapter'
 echo
-echo "| fabric | floor ms | lookup ms | direct N = 8 ms | direct N = 32 ms | resonant ms | N = 8 / lookup | N = 32 / lookup | resonant / lookup | BRDF work: N = 32 / lookup | BRDF work: resonant / lookup |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+alt=${ALT_TABLES:-}
+alt_header=""
+alt_rule=""
+if [[ -n $alt ]]; then
+    alt_header=" lookup ($alt) ms | BRDF work: N = 32 / lookup ($alt) | BRDF work: resonant / lookup ($alt) |"
+    alt_rule="---:|---:|---:|"
+fi
+echo "| fabric | floor ms | lookup ms | direct N = 8 ms | direct N = 32 ms | resonant ms | N = 8 / lookup | N = 32 / lookup | resonant / lookup | BRDF work: N = 32 / lookup | BRDF work: resonant / lookup |$alt_header"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|$alt_rule"
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 
 for fabric in $fabrics; do
@@ -37,13 +46,20 @@ for fabric in $fabrics; do
         ms[n8]+="$(median_ms --fabric "$fabric" --shader direct --samples 8) "
         ms[n32]+="$(median_ms --fabric "$fabric" --shader direct --samples 32) "
         ms[resonant]+="$(median_ms --fabric "$fabric" --shader resonant) "
+        if [[ -n $alt ]]; then
+            ms[alt]+="$(median_ms --fabric "$fabric" --tables "$alt") "
+        fi
     done
-    for key in floor lookup n8 n32 resonant; do
+    keys="floor lookup n8 n32 resonant"
+    [[ -n $alt ]] && keys+=" alt"
+    for key in $keys; do
         ms[$key]=$(tr ' ' '\n' <<<"${ms[$key]}" | grep . | median)
     done
     awk -v f="$fabric" -v z="${ms[floor]}" -v l="${ms[lookup]}" -v a="${ms[n8]}" -v b="${ms[n32]}" \
-        -v r="${ms[resonant]}" 'BEGIN {
-        printf "| %s | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f× | %.2f× | %.2f× | %.2f× | %.2f× |\n",
-            f, z, l, a, b, r, a / l, b / l, r / l, (b - z) / (l - z), (r - z) / (l - z) }'
+        -v r="${ms[resonant]}" -v x="${ms[alt]:-}" 'BEGIN {
+        printf "| %s | %.0f | %.0f | %.0f | %.0f | %.0f | %.2f× | %.2f× | %.2f× | %.2f× | %.2f× |",
+            f, z, l, a, b, r, a / l, b / l, r / l, (b - z) / (l - z), (r - z) / (l - z)
+        if (x != "") printf " %.0f | %.2f× | %.2f× |", x, (b - z) / (x - z), (r - z) / (x - z)
+        printf "\n" }'
     unset ms
 done

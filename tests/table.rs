@@ -162,9 +162,14 @@ fn bake_is_identical_for_one_and_two_threads() {
             .build()
             .unwrap()
     };
-    let fabric = fabric("velvet");
     let dir = temp_dir("determinism");
-    for (layout, resolution) in [(Layout::GRID4D, 5), (Layout::THREAD_FRAME, 8)] {
+    for (layout, resolution, name) in [
+        (Layout::GRID4D, 5, "velvet"),
+        (Layout::THREAD_FRAME, 8, "velvet"),
+        // Point masses on both threads, sloped segments and a jump on thread 1.
+        (Layout::SPLIT_FRAME, 8, "polyester_satin_charmeuse_back"),
+    ] {
+        let fabric = fabric(name);
         let one = pool(1).install(|| bake(&fabric, layout, resolution, &|| {}).unwrap());
         let two = pool(2).install(|| bake(&fabric, layout, resolution, &|| {}).unwrap());
         assert_eq!(one, two, "{layout}");
