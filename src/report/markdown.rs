@@ -474,7 +474,7 @@ fn tables_section(report: &Report, md: &mut String) {
     md.push('\n');
     let _ = writeln!(
         md,
-        "**Pareto front** (size against error, both layouts): the tables no other table of \
+        "**Pareto front** (size against error, every layout): the tables no other table of \
          the fabric beats on both size and error (worse of uniform and highlight). To meet an \
          error budget, pick the first entry at or under it; for a memory budget, the last \
          entry that fits.\n"

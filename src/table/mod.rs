@@ -13,6 +13,8 @@
 //!
 //! - [`thread_frame`]: per thread, coordinates aligned with its specular resonance (the
 //!   default).
+//! - [`split_frame`]: each thread's point masses evaluated exactly, its sloped segments
+//!   tabulated as thread_frame tabulates a thread.
 //! - [`grid4d`]: the baseline, octahedral(wi) × octahedral(wo).
 
 pub mod axis;
