@@ -372,8 +372,6 @@ impl PairEvaluator {
     }
 }
 
-pub(crate) use crate::table::wgsl::wgsl_f32;
-
 /// An empty group 0 (layout and bind group), for a [`GpuBrdf`] whose WGSL holds everything
 /// it reads as constants.
 pub fn empty_bind_group(

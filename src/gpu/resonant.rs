@@ -20,20 +20,12 @@ use crate::model::resonant::{
     ResonantNodes, SPLIT_TOLERANCE, TAIL_MASS,
 };
 use crate::model::{Fabric, Thread};
+use crate::table::wgsl::{wgsl_f32, wgsl_vec};
 use std::fmt::Write;
 
 /// The template of the resonant shader (defines `cloth_brdf` once the generated constants are
 /// prepended).
 pub const RESONANT_WGSL: &str = include_str!("../../shaders/resonant.wgsl");
-
-fn lit(x: f32) -> String {
-    super::wgsl_f32(x as f64)
-}
-
-fn vec_lit(values: &[f32]) -> String {
-    let parts: Vec<String> = values.iter().map(|&v| lit(v)).collect();
-    format!("vec{}<f32>({})", values.len(), parts.join(", "))
-}
 
 /// The constants and per-thread functions for `fabric` at `nodes`, followed by the template:
 /// the complete WGSL module of [`GpuResonant`]. `fabric` must be valid.
@@ -60,7 +52,7 @@ pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
         ("CLOTH_RESONANT_GAP", gap as f32),
     ];
     for (name, value) in consts {
-        let _ = writeln!(w, "const {name}: f32 = {};", lit(value));
+        let _ = writeln!(w, "const {name}: f32 = {};", wgsl_f32(value));
     }
     let _ = writeln!(
         w,
@@ -71,7 +63,7 @@ pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
     let _ = writeln!(
         w,
         "const CLOTH_RESONANT_COVERAGE: vec2<f32> = {};",
-        vec_lit(&[
+        wgsl_vec(&[
             fabric.thread1.coverage as f32,
             fabric.thread2.coverage as f32
         ])
@@ -81,7 +73,7 @@ pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
         let _ = writeln!(
             w,
             "const CLOTH_RESONANT_ALBEDO_{j}: vec3<f32> = {};",
-            vec_lit(&albedo)
+            wgsl_vec(&albedo)
         );
     }
     // The n-point rules for every count a part can get, n = 1..=max(surface, volume, base)
@@ -92,7 +84,7 @@ pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
     for n in 1..=max {
         let rule = GaussLegendre::new(n);
         for (&x, &wt) in rule.nodes.iter().zip(&rule.weights) {
-            gl.push(vec_lit(&[x as f32, wt as f32]));
+            gl.push(wgsl_vec(&[x as f32, wt as f32]));
         }
     }
     debug_assert_eq!(gl.len(), max * (max + 1) / 2);
@@ -130,11 +122,11 @@ fn thread_wgsl(w: &mut String, fabric: &Fabric, thread: &Thread, j: usize, nodes
     let _ = writeln!(
         w,
         "const CLOTH_RESONANT_THREAD_{j} = ClothResonantThread({}, {}, {}, {}, {});",
-        vec_lit(&t0),
-        vec_lit(&b),
-        vec_lit(&[sigma_s as f32, sigma_v as f32]),
-        vec_lit(&[ks, ps, kv, pv]),
-        vec_lit(&[thread.eta as f32, thread.kd as f32, no_interface, 0.0])
+        wgsl_vec(&t0),
+        wgsl_vec(&b),
+        wgsl_vec(&[sigma_s as f32, sigma_v as f32]),
+        wgsl_vec(&[ks, ps, kv, pv]),
+        wgsl_vec(&[thread.eta as f32, thread.kd as f32, no_interface, 0.0])
     );
     let _ = writeln!(
         w,
@@ -151,8 +143,8 @@ fn thread_wgsl(w: &mut String, fabric: &Fabric, thread: &Thread, j: usize, nodes
             let _ = writeln!(
                 w,
                 "    sums += cloth_resonant_point(thread, pair, {}, {});",
-                lit(piece.start as f32),
-                lit(piece.weight as f32)
+                wgsl_f32(piece.start as f32),
+                wgsl_f32(piece.weight as f32)
             );
         } else {
             // The density per radian in f64, as `ResonantRule::segment` forms it.
@@ -160,9 +152,9 @@ fn thread_wgsl(w: &mut String, fabric: &Fabric, thread: &Thread, j: usize, nodes
             let _ = writeln!(
                 w,
                 "    sums += cloth_resonant_segment(thread, pair, {}, {}, {});",
-                lit(piece.start as f32),
-                lit(piece.end as f32),
-                lit(density as f32)
+                wgsl_f32(piece.start as f32),
+                wgsl_f32(piece.end as f32),
+                wgsl_f32(density as f32)
             );
         }
     }

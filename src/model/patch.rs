@@ -135,9 +135,10 @@ impl ThreadModel {
     /// clipped ends like a product of cosines, so no midpoint straddles a kink, and a sliver
     /// where both directions barely face the sample is resolved rather than hit or missed.
     pub fn means(&self, wi: DVec3, wo: DVec3) -> ThreadMeans {
-        let Some((pair, facing)) = self.pair_frame(wi, wo) else {
+        let Some(pair) = self.pair_frame(wi, wo) else {
             return ThreadMeans::default();
         };
+        let facing = pair.facing();
         if let Some(rule) = &self.resonant {
             return rule.means(self, &pair, facing).0;
         }
@@ -175,7 +176,7 @@ impl ThreadModel {
     /// model's own curve. Each sample as [`Self::means`] weighs a point piece.
     pub fn point_sums(&self, wi: DVec3, wo: DVec3, points: &[(f64, f64, f64)]) -> ThreadMeans {
         let mut sums = ThreadMeans::default();
-        if let Some((pair, _)) = self.pair_frame(wi, wo) {
+        if let Some(pair) = self.pair_frame(wi, wo) {
             for &(cos_a, sin_a, weight) in points {
                 self.accumulate(&pair, cos_a, sin_a, weight, &mut sums);
             }
@@ -187,14 +188,13 @@ impl ThreadModel {
     pub fn resonant_means(&self, wi: DVec3, wo: DVec3) -> Option<(ThreadMeans, ResonantCost)> {
         let rule = self.resonant.as_ref()?;
         Some(match self.pair_frame(wi, wo) {
-            Some((pair, facing)) => rule.means(self, &pair, facing),
+            Some(pair) => rule.means(self, &pair, pair.facing()),
             None => Default::default(),
         })
     }
 
-    /// The pair in this thread's fixed axes and its facing window, the α interval where both
-    /// directions face the tangent sample; `None` where a direction is parallel to b.
-    fn pair_frame(&self, wi: DVec3, wo: DVec3) -> Option<(PairInThreadFrame, (f64, f64))> {
+    /// The pair in this thread's fixed axes; `None` where a direction is parallel to b.
+    fn pair_frame(&self, wi: DVec3, wo: DVec3) -> Option<PairInThreadFrame> {
         let (ti0, zi, bi) = (wi.dot(self.t0), wi.z, wi.dot(self.b));
         let (to0, zo, bo) = (wo.dot(self.t0), wo.z, wo.dot(self.b));
         let par_i = (ti0 * ti0 + zi * zi).sqrt();
@@ -214,13 +214,7 @@ impl ThreadModel {
             par_o,
             u_psi: self.reweight.eval(cos_psi_d.acos()),
         };
-        let half_pi = std::f64::consts::FRAC_PI_2;
-        let (delta_i, delta_o) = (ti0.atan2(zi), to0.atan2(zo));
-        let facing = (
-            (-half_pi - delta_i).max(-half_pi - delta_o),
-            (half_pi - delta_i).min(half_pi - delta_o),
-        );
-        Some((pair, facing))
+        Some(pair)
     }
 
     /// Adds one tangent sample at α (given by its cosine and sine) with `weight`.
@@ -324,6 +318,19 @@ pub(crate) struct PairInThreadFrame {
     pub par_i: f64,
     pub par_o: f64,
     pub u_psi: f64,
+}
+
+impl PairInThreadFrame {
+    /// The facing window: the α interval where both directions face the tangent sample
+    /// (w·n(α) > 0). Only the curve rules need it, not single samples.
+    pub fn facing(&self) -> (f64, f64) {
+        let half_pi = std::f64::consts::FRAC_PI_2;
+        let (delta_i, delta_o) = (self.ti0.atan2(self.zi), self.to0.atan2(self.zo));
+        (
+            (-half_pi - delta_i).max(-half_pi - delta_o),
+            (half_pi - delta_i).min(half_pi - delta_o),
+        )
+    }
 }
 
 /// A fabric prepared for evaluating `F(wi, wo)` with one integration rule.

@@ -170,35 +170,10 @@ impl AxisF32 {
                 };
                 gs[k] + (v - vs[k]) * slopes[k]
             }
-            WarpF32::SinEnds { c, .. } => {
-                return self.locate_sin_ends(super::fast_math::asin(v * c));
+            WarpF32::SinEnds { c, scale } => {
+                super::fast_math::asin(v * c) * scale + 0.5 * self.last
             }
         };
-        self.split(g)
-    }
-
-    /// For a `SinEnds` axis, the factor c of its warp's asin argument `v·c` (see
-    /// [`Self::locate_sin_ends`]).
-    pub fn sin_ends_factor(&self) -> Option<f32> {
-        match self.warp {
-            WarpF32::SinEnds { c, .. } => Some(c),
-            _ => None,
-        }
-    }
-
-    /// [`Self::locate`] of a `SinEnds` axis given `asin(v·c)`, computed by the caller (the
-    /// thread_frame lookup computes it with other angles in one four-lane atan2).
-    #[inline(always)]
-    pub fn locate_sin_ends(&self, asin_vc: f32) -> (usize, f32) {
-        let WarpF32::SinEnds { scale, .. } = self.warp else {
-            unreachable!("locate_sin_ends on a SinEnds axis only")
-        };
-        self.split(asin_vc * scale + 0.5 * self.last)
-    }
-
-    /// The texel pair around continuous texel coordinate `g`, clamped to the axis.
-    #[inline(always)]
-    fn split(&self, g: f32) -> (usize, f32) {
         let g = g.clamp(0.0, self.last);
         // g ≥ 0 after the clamp: a plain i32 conversion (Rust's `as usize` from f32
         // saturates, which costs branches in this hot path).
@@ -210,32 +185,32 @@ impl AxisF32 {
     /// warp functions of `shaders/thread_frame.wgsl` with the folded constants), and a
     /// comment describing the axis.
     pub fn wgsl_texel(axis: &Axis, value: &str) -> (String, String) {
-        use super::wgsl::{wgsl_f32, wgsl_vec3};
+        use super::wgsl::{wgsl_f32, wgsl_vec};
         let folded = Self::new(axis);
-        let last = wgsl_f32(folded.last as f64);
+        let last = wgsl_f32(folded.last);
         match (axis.warp, folded.warp) {
             (Warp::Linear { lo, hi }, WarpF32::Linear { scale, .. }) => (
                 format!(
                     "cloth_linear_texel({value}, {}, {}, {last})",
                     wgsl_f32(lo),
-                    wgsl_f32(scale as f64)
+                    wgsl_f32(scale)
                 ),
                 format!("Linear [{lo:.6}, {hi:.6}], {} texels", axis.texels),
             ),
             (Warp::Knots { xs, vs }, WarpF32::Knots { gs, slopes, .. }) => (
                 format!(
                     "cloth_knots_texel({value}, {}, {}, {}, {last})",
-                    wgsl_vec3([vs[0], vs[1], vs[2]]),
-                    wgsl_vec3(gs.map(f64::from)),
-                    wgsl_vec3(slopes.map(f64::from))
+                    wgsl_vec(&vs[..3]),
+                    wgsl_vec(&gs),
+                    wgsl_vec(&slopes)
                 ),
                 format!("Knots xs {:.6?}, vs {:.6?}, {} texels", xs, vs, axis.texels),
             ),
             (Warp::SinEnds { hi, k }, WarpF32::SinEnds { c, scale }) => (
                 format!(
                     "cloth_sin_ends_texel({value}, {}, {}, {last})",
-                    wgsl_f32(c as f64),
-                    wgsl_f32(scale as f64)
+                    wgsl_f32(c),
+                    wgsl_f32(scale)
                 ),
                 format!("SinEnds hi {hi:.6}, k {k}, {} texels", axis.texels),
             ),

@@ -3,7 +3,6 @@
 //! rad), so an angle error of 2e-5 rad moves a lookup by at most about 1% of a texel, far
 //! below the interpolation error.
 
-use glam::Vec4;
 use std::f32::consts::{FRAC_PI_2, PI};
 
 /// Coefficients of x, x³, …, x¹¹ of atan(x) for |x| ≤ 1: an odd polynomial fitted
@@ -35,26 +34,6 @@ pub fn atan2(y: f32, x: f32) -> f32 {
     let a = atan_unit(ratio);
     let a = if steep { FRAC_PI_2 - a } else { a };
     let a = if x < 0.0 { PI - a } else { a };
-    a.copysign(y)
-}
-
-/// [`atan2`] of four lanes at once (SSE on x86-64): the thread_frame lookup computes its
-/// ten angles in three such calls.
-#[inline(always)]
-pub fn atan2_4(y: Vec4, x: Vec4) -> Vec4 {
-    let (ax, ay) = (x.abs(), y.abs());
-    let steep = ay.cmpgt(ax);
-    let num = Vec4::select(steep, ax, ay);
-    let den = Vec4::select(steep, ay, ax).max(Vec4::splat(f32::MIN_POSITIVE));
-    let t = num / den;
-    let t2 = t * t;
-    let p = t
-        * (Vec4::splat(ATAN[0])
-            + t2 * (Vec4::splat(ATAN[1])
-                + t2 * (Vec4::splat(ATAN[2])
-                    + t2 * (Vec4::splat(ATAN[3]) + t2 * (Vec4::splat(ATAN[4]) + t2 * ATAN[5])))));
-    let a = Vec4::select(steep, Vec4::splat(FRAC_PI_2) - p, p);
-    let a = Vec4::select(x.cmplt(Vec4::ZERO), Vec4::splat(PI) - a, a);
     a.copysign(y)
 }
 
@@ -94,15 +73,6 @@ mod tests {
         }
         assert!(worst < 2e-5, "atan2 error {worst:e}");
         assert_eq!(atan2(0.0, 0.0), 0.0);
-        // The four-lane version computes the same values.
-        let (y, x) = (
-            Vec4::new(0.3, -2.0, 0.0, -1e-6),
-            Vec4::new(-0.7, 0.1, 0.0, 5.0),
-        );
-        let lanes = atan2_4(y, x).to_array();
-        for k in 0..4 {
-            assert_eq!(lanes[k], atan2(y[k], x[k]), "lane {k}");
-        }
     }
 
     #[test]

@@ -46,15 +46,14 @@
 //! point mass (linen and velvet 0, crepe 3, satin 4, satin back 5, shot silk 3).
 
 use super::axis::AxisF32;
-use super::thread_frame::{self, AxisPlan, MASKING_FLOOR, ThreadGeometry};
-use super::wgsl::{degenerate_threshold, unit_area_gaussian, wgsl_f32, wgsl_vec3};
+use super::thread_frame::{self, AxisPlan, ThreadGeometry};
+use super::wgsl::{coverage_wgsl, degenerate_threshold, unit_area_gaussian, wgsl_f32, wgsl_vec};
 use super::{LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
 use crate::model::curve::{Integration, curve_pieces};
 use crate::model::fabric::TangentSampling;
 use crate::model::patch::ThreadModel;
 use crate::model::{Fabric, Thread};
 use glam::{DVec3, Vec3};
-use rayon::prelude::*;
 use std::any::Any;
 use std::fmt::Write;
 use std::sync::Arc;
@@ -302,8 +301,11 @@ impl Geometry {
     /// cos²θd' where it comes from the table (see the module doc).
     pub fn thread_sums(&self, planes: &[Plane], j: usize, wi: DVec3, wo: DVec3) -> [f64; 3] {
         let thread = &self.threads[j];
-        let points = thread.model.point_sums(wi, wo, &thread.points);
-        let mut sums = [points.reflection, points.transmission, points.masking];
+        let mut sums = [0.0; 3];
+        if !thread.points.is_empty() {
+            let points = thread.model.point_sums(wi, wo, &thread.points);
+            sums = [points.reflection, points.transmission, points.masking];
+        }
         if let (Some(slopes), Some((table, masking))) = (&thread.slopes, self.planes[j]) {
             let [r, t, p, cos2_d] =
                 slopes
@@ -320,14 +322,13 @@ impl Geometry {
     /// [`Self::thread_sums`] in f32 for the table part (the point masses by the f64 model).
     fn thread_sums_f32(&self, planes: &[Plane], j: usize, wi: Vec3, wo: Vec3) -> [f32; 3] {
         let thread = &self.threads[j];
-        let points = thread
-            .model
-            .point_sums(wi.as_dvec3(), wo.as_dvec3(), &thread.points);
-        let mut sums = [
-            points.reflection as f32,
-            points.transmission as f32,
-            points.masking as f32,
-        ];
+        let mut sums = [0.0; 3];
+        if !thread.points.is_empty() {
+            let points = thread
+                .model
+                .point_sums(wi.as_dvec3(), wo.as_dvec3(), &thread.points);
+            sums = [points.reflection, points.transmission, points.masking].map(|x| x as f32);
+        }
         if let (Some(slopes), Some((table, masking))) = (&thread.slopes, self.planes[j]) {
             let [r, t, p, cos2_d] = slopes.geometry.sample_f32(
                 &slopes.fast_axes,
@@ -373,8 +374,8 @@ impl Geometry {
                  let pair = cloth_sample_pair(wi, wo, {}, {}, material.k_u);\n    \
                  if pair.par_i > material.threshold && pair.par_o > material.threshold {{\n",
                 self.material_wgsl(j),
-                wgsl_vec3(t0.to_array()),
-                wgsl_vec3(b.to_array()),
+                wgsl_vec(&t0.to_array()),
+                wgsl_vec(&b.to_array()),
             );
             for &(cos_a, sin_a, weight) in &thread.points {
                 let _ = writeln!(
@@ -409,16 +410,13 @@ impl Geometry {
         let [ks, ps] = unit_area_gaussian(sigma_s);
         let [kv, pv] = unit_area_gaussian(sigma_v);
         format!(
-            "ClothSampleMaterial(vec4<f32>({}, {}, {}, {}), {}, {}, {}, {}, {})",
-            wgsl_f32(ks as f64),
-            wgsl_f32(ps as f64),
-            wgsl_f32(kv as f64),
-            wgsl_f32(pv as f64),
+            "ClothSampleMaterial({}, {}, {}, {}, {}, {})",
+            wgsl_vec(&[ks, ps, kv, pv]),
             wgsl_f32(kernel.eta),
             wgsl_f32(kernel.kd),
             if kernel.eta == 1.0 { "1.0" } else { "0.0" },
             wgsl_f32(-0.5 / (sigma_u * sigma_u)),
-            wgsl_f32(degenerate_threshold() as f64),
+            wgsl_f32(degenerate_threshold()),
         )
     }
 }
@@ -452,12 +450,7 @@ impl TableLookup for Geometry {
     }
 
     fn wgsl_constants(&self) -> String {
-        let mut out = format!(
-            "// Coverage (a1, a2, gap = 1 − a1 − a2).\nconst CLOTH_COVERAGE = vec3<f32>({}, {}, {});\n",
-            wgsl_f32(self.coverage[0]),
-            wgsl_f32(self.coverage[1]),
-            wgsl_f32(self.gap)
-        );
+        let mut out = coverage_wgsl(self.coverage, self.gap);
         let mut any = false;
         for (j, _) in self.tabulated() {
             let _ = writeln!(
@@ -510,51 +503,21 @@ fn bake_slopes(
     on_row: &(dyn Fn() + Sync),
 ) -> Vec<f64> {
     let model = ThreadModel::new(fabric, index, Integration::Baking);
-    let n = geometry.axes.map(|a| a.texels);
-    let values: [Vec<f64>; 4] =
-        std::array::from_fn(|a| (0..n[a]).map(|i| geometry.axes[a].texel_value(i)).collect());
-    // (R·cos²θd'/⟨P⟩, T/⟨P⟩) of a pair in its own resonant frame; NaN below the floor.
-    let ratios = |wi: DVec3, wo: DVec3| -> [f64; 2] {
-        let m = model.means(wi, wo);
-        if m.masking < MASKING_FLOOR {
-            return [f64::NAN; 2];
-        }
-        let sin_d = geometry.coordinates(wi, wo)[1].sin();
-        [
-            m.reflection * (1.0 - sin_d * sin_d) / m.masking,
-            m.transmission / m.masking,
-        ]
+    // The ratios of a pair that is not a texel's own, at its own θd'.
+    let ratios = |wi: DVec3, wo: DVec3| {
+        thread_frame::stored_ratios(&model, wi, wo, geometry.coordinates(wi, wo)[1])
     };
     let lift = |w: DVec3, z: f64| DVec3::new(w.x, w.y, z).normalize();
-    let rows = n[1] * n[2] * n[3];
-    let mut data: Vec<[f64; 2]> = (0..rows)
-        .into_par_iter()
-        .flat_map_iter(|row| {
-            let (i1, i3, i2) = (row % n[1], (row / n[1]) % n[3], row / (n[1] * n[3]));
-            let row_values: Vec<[f64; 2]> = (0..n[0])
-                .map(|i0| {
-                    let (wi, wo) = geometry.directions([
-                        values[0][i0],
-                        values[1][i1],
-                        values[2][i2],
-                        values[3][i3],
-                    ]);
-                    if wi.z >= 0.0 && wo.z >= 0.0 {
-                        return ratios(wi, wo);
-                    }
-                    let above = ratios(lift(wi, wi.z.max(1e-6)), lift(wo, wo.z.max(1e-6)));
-                    let mirror = ratios(lift(wi, wi.z.abs()), lift(wo, wo.z.abs()));
-                    // NaN (a ratio below the floor) propagates and is filled below.
-                    [0, 1].map(|c| {
-                        let v = 2.0 * above[c] - mirror[c];
-                        if v.is_nan() { v } else { v.max(0.0) }
-                    })
-                })
-                .collect();
-            on_row();
-            row_values
+    thread_frame::bake_thread_plane(geometry, on_row, |wi, wo, theta_d| {
+        if wi.z >= 0.0 && wo.z >= 0.0 {
+            return thread_frame::stored_ratios(&model, wi, wo, theta_d);
+        }
+        let above = ratios(lift(wi, wi.z.max(1e-6)), lift(wo, wo.z.max(1e-6)));
+        let mirror = ratios(lift(wi, wi.z.abs()), lift(wo, wo.z.abs()));
+        // NaN (a ratio below the floor) propagates and is filled from the neighbours.
+        [0, 1].map(|c| {
+            let v = 2.0 * above[c] - mirror[c];
+            if v.is_nan() { v } else { v.max(0.0) }
         })
-        .collect();
-    thread_frame::fill_undefined(&mut data, thread_frame::plane_dims(geometry));
-    data.into_iter().flatten().collect()
+    })
 }

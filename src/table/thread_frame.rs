@@ -62,10 +62,10 @@
 
 use super::axis::{Axis, AxisF32, Warp};
 use super::fast_math;
-use super::wgsl::wgsl_f32;
+use super::wgsl::{coverage_wgsl, wgsl_f32};
 use super::{LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, quadrilinear_corners};
 use crate::model::{Fabric, Integration, patch::ThreadModel};
-use glam::{DVec3, Vec2, Vec3, Vec4};
+use glam::{DVec3, Vec3};
 use half::f16;
 use std::any::Any;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -123,13 +123,10 @@ impl LayoutUnit for ThreadFrame {
         let geometry = Geometry::new(fabric, resolution);
         let mut planes = Vec::with_capacity(4);
         for (j, thread) in geometry.threads.iter().enumerate() {
-            let means = bake_thread_means(fabric, thread, j, on_row);
-            planes.push(
-                encode_thread(&means, thread)
-                    .into_iter()
-                    .flatten()
-                    .collect(),
-            );
+            let model = ThreadModel::new(fabric, j, Integration::Baking);
+            planes.push(bake_thread_plane(thread, on_row, |wi, wo, theta_d| {
+                stored_ratios(&model, wi, wo, theta_d)
+            }));
         }
         for (j, thread) in geometry.threads.iter().enumerate() {
             planes.push(bake_masking(fabric, thread, j));
@@ -376,9 +373,9 @@ impl ThreadGeometry {
         [r, t, masking, 1.0 - sin_d * sin_d]
     }
 
-    /// [`Self::sample`] in f32 for one thread alone (scalar [`fast_math`]; the thread_frame
-    /// layout computes both threads' angles together instead). `fast` are this thread's
-    /// axes in f32 (4D axes, then the masking axis).
+    /// [`Self::sample`] in f32 (the arithmetic of `shaders/thread_frame_sample.wgsl`, with
+    /// [`fast_math`] for atan2 and asin). `fast` are this thread's axes in f32 (4D axes,
+    /// then the masking axis).
     pub fn sample_f32(
         &self,
         fast: &[AxisF32; 5],
@@ -520,25 +517,17 @@ pub struct Geometry {
     pub gap: f64,
     /// Per thread, the 4D axes and the masking axis for the f32 lookup.
     fast_axes: [[AxisF32; 5]; 2],
-    /// Per thread, the factor c of its θd' axis's `SinEnds` warp.
-    theta_factors: [f32; 2],
 }
 
 impl Geometry {
     pub fn new(fabric: &Fabric, resolution: u32) -> Self {
         let threads = [0, 1].map(|j| ThreadGeometry::new(fabric, j, resolution));
         let fast_axes = threads.each_ref().map(ThreadGeometry::fast_axes);
-        let theta_factors = fast_axes.map(|axes| {
-            axes[1]
-                .sin_ends_factor()
-                .expect("the θd' axis is a SinEnds warp")
-        });
         Self {
             threads,
             coverage: [fabric.thread1.coverage, fabric.thread2.coverage],
             gap: (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0),
             fast_axes,
-            theta_factors,
         }
     }
 
@@ -585,87 +574,7 @@ impl Geometry {
     }
 }
 
-impl Geometry {
-    /// [`Self::sample_thread`] of both threads in f32 (the arithmetic of
-    /// `shaders/thread_frame.wgsl`, with [`fast_math`] for atan2 and asin): per thread
-    /// `[reflection, transmission, ⟨P⟩, cos²θd']`. The ten angles of the two threads go
-    /// through three four-lane atan2 calls.
-    #[inline(always)]
-    fn sample_threads_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [[f32; 4]; 2] {
-        // Thread 1's frame is (x, y, z), thread 2's (y, x, z): lane j of a Vec2 below is
-        // thread j's component along its own t0 (`_t`) or b (`_b`).
-        let swap = self.threads[0].t0 != DVec3::X;
-        let along = |w: Vec3| {
-            if swap {
-                Vec2::new(w.y, w.x)
-            } else {
-                Vec2::new(w.x, w.y)
-            }
-        };
-        let (wi_t, wo_t) = (along(wi), along(wo));
-        let (wi_b, wo_b) = (Vec2::new(wi_t.y, wi_t.x), Vec2::new(wo_t.y, wo_t.x));
-        let (h_t, h_z) = (wi_t + wo_t, wi.z + wo.z);
-        let masking_angles = fast_math::atan2_4(
-            Vec4::new(wi_t.x, wi_t.y, wo_t.x, wo_t.y),
-            Vec4::new(wi.z, wi.z, wo.z, wo.z),
-        );
-        // sin βH, cos βH without trigonometry (as the WGSL does).
-        let r2 = (h_t * h_t + h_z * h_z).max(Vec2::splat(1e-37));
-        let r = Vec2::new(r2.x.sqrt(), r2.y.sqrt()).recip();
-        let (sin_b, cos_b) = (h_t * r, h_z * r);
-        let d_t = wi_t - wo_t;
-        let s = (0.5 * (d_t * cos_b - (wi.z - wo.z) * sin_b)).clamp(Vec2::splat(-1.0), Vec2::ONE);
-        let wi_n = wi_t * sin_b + wi.z * cos_b;
-        let wo_n = wo_t * sin_b + wo.z * cos_b;
-        let phi = fast_math::atan2_4(
-            Vec4::new(wi_b.x, wi_b.y, wo_b.x, wo_b.y),
-            Vec4::new(wi_n.x, wi_n.y, wo_n.x, wo_n.y),
-        );
-        // cos²θd' = 1 − (wi·t')² = (wi·n')² + (wi·b)²: the sum keeps f32's relative
-        // precision as θd' → ±90°, where 1 − s² cancels to 0. θd' = atan2(s, cos θd')
-        // (= asin s) shares a four-lane call with βH.
-        let cos2_d = wi_n * wi_n + wi_b * wi_b;
-        let cos_d = Vec2::new(cos2_d.x.sqrt(), cos2_d.y.sqrt());
-        let angles = fast_math::atan2_4(
-            Vec4::new(h_t.x, h_t.y, s.x, s.y),
-            Vec4::new(h_z, h_z, cos_d.x, cos_d.y),
-        );
-        let (beta_h, theta_d) = ([angles.x, angles.y], [angles.z, angles.w]);
-        // The θd' axes are `SinEnds` warps: their asin(θd'·c) = atan2(z, √(1 − z²)), in one
-        // more call for both threads.
-        let z = Vec2::new(
-            theta_d[0] * self.theta_factors[0],
-            theta_d[1] * self.theta_factors[1],
-        )
-        .clamp(Vec2::splat(-1.0), Vec2::ONE);
-        let zc = (Vec2::ONE - z * z).max(Vec2::ZERO);
-        let theta_asin = fast_math::atan2_4(
-            Vec4::new(z.x, z.y, 0.0, 0.0),
-            Vec4::new(zc.x.sqrt(), zc.y.sqrt(), 1.0, 1.0),
-        );
-        [0, 1].map(|j| {
-            let axes = &self.fast_axes[j];
-            let (mut u, mut v) = (0.5 * (phi[j] + phi[2 + j]), 0.5 * (phi[j] - phi[2 + j]));
-            if u < 0.0 {
-                (u, v) = (-u, -v);
-            }
-            let masking = masking_f32(
-                &axes[4],
-                &planes[2 + j],
-                masking_angles[j],
-                masking_angles[2 + j],
-            );
-            let located = [
-                axes[0].locate(beta_h[j]),
-                axes[1].locate_sin_ends(theta_asin[j]),
-                axes[2].locate(u),
-                axes[3].locate(v),
-            ];
-            let [reflection, transmission] = interpolate_f32(&self.threads[j], &planes[j], located);
-            [reflection, transmission, masking, cos2_d[j]]
-        })
-    }
-}
+impl Geometry {}
 
 impl TableLookup for Geometry {
     fn terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3] {
@@ -677,7 +586,9 @@ impl TableLookup for Geometry {
         let mut reflection = 0.0;
         let mut transmission = [0.0; 2];
         let mut q = self.gap as f32 * wo.z;
-        let threads = self.sample_threads_f32(planes, wi, wo);
+        let threads = [0, 1].map(|j| {
+            self.threads[j].sample_f32(&self.fast_axes[j], &planes[j], &planes[2 + j], wi, wo)
+        });
         for (j, share) in transmission.iter_mut().enumerate() {
             let [r, t, masking, cos2_d] = threads[j];
             let a = self.coverage[j] as f32;
@@ -697,12 +608,7 @@ impl TableLookup for Geometry {
             self.threads.iter().all(|t| t.axes[2].texels >= 2),
             "thread_frame has at least 2 u texels"
         );
-        let mut out = format!(
-            "// Coverage (a1, a2, gap = 1 − a1 − a2).\nconst CLOTH_COVERAGE = vec3<f32>({}, {}, {});\n",
-            wgsl_f32(self.coverage[0]),
-            wgsl_f32(self.coverage[1]),
-            wgsl_f32(self.gap)
-        );
+        let mut out = coverage_wgsl(self.coverage, self.gap);
         for j in 0..2 {
             out += &self.threads[j].wgsl_function(
                 &format!("cloth_thread{}", j + 1),
@@ -822,41 +728,53 @@ fn bilinear(plane: &Plane, axis: Axis, x: f64, y: f64) -> f64 {
         + fy * ((1.0 - fx) * at(x0, y1) + fx * at(x1, y1))
 }
 
-/// Curve means (R, T, ⟨P⟩) of every texel of one thread's 4D table, in plane order.
-pub fn bake_thread_means(
-    fabric: &Fabric,
+/// The stored channels of every texel of one thread's 4D table, flattened in plane order:
+/// `ratios(wi, wo, θd')` at each texel's direction pair and θd' (NaN where undefined), then
+/// the NaN texels filled from their neighbours ([`fill_undefined`]). Rows in parallel,
+/// each texel a pure function of its coordinates, so the result is the same for any
+/// thread count.
+pub fn bake_thread_plane(
     geometry: &ThreadGeometry,
-    index: usize,
     on_row: &(dyn Fn() + Sync),
-) -> Vec<[f64; 3]> {
+    ratios: impl Fn(DVec3, DVec3, f64) -> [f64; 2] + Sync,
+) -> Vec<f64> {
     use rayon::prelude::*;
-    let model = ThreadModel::new(fabric, index, Integration::Baking);
     let n = geometry.axes.map(|a| a.texels);
     let values: [Vec<f64>; 4] =
         std::array::from_fn(|a| (0..n[a]).map(|i| geometry.axes[a].texel_value(i)).collect());
     let rows = n[1] * n[2] * n[3];
-    (0..rows)
+    let mut data: Vec<[f64; 2]> = (0..rows)
         .into_par_iter()
         .flat_map_iter(|row| {
             let (i1, i3, i2) = (row % n[1], (row / n[1]) % n[3], row / (n[1] * n[3]));
-            let values = &values;
-            let model = &model;
-            let row_values: Vec<[f64; 3]> = (0..n[0])
+            let (values, ratios) = (&values, &ratios);
+            let row_values: Vec<[f64; 2]> = (0..n[0])
                 .map(|i0| {
-                    let (wi, wo) = geometry.directions([
-                        values[0][i0],
-                        values[1][i1],
-                        values[2][i2],
-                        values[3][i3],
-                    ]);
-                    let m = model.means(wi, wo);
-                    [m.reflection, m.transmission, m.masking]
+                    let theta_d = values[1][i1];
+                    let (wi, wo) =
+                        geometry.directions([values[0][i0], theta_d, values[2][i2], values[3][i3]]);
+                    ratios(wi, wo, theta_d)
                 })
                 .collect();
             on_row();
             row_values
         })
-        .collect()
+        .collect();
+    fill_undefined(&mut data, plane_dims(geometry));
+    data.into_iter().flatten().collect()
+}
+
+/// The stored channels of "Channels and lookup" for a pair at θd' from the thread's curve
+/// means: (R·cos²θd'/⟨P⟩, T/⟨P⟩), NaN where ⟨P⟩ < [`MASKING_FLOOR`].
+pub fn stored_ratios(model: &ThreadModel, wi: DVec3, wo: DVec3, theta_d: f64) -> [f64; 2] {
+    let m = model.means(wi, wo);
+    if m.masking < MASKING_FLOOR {
+        return [f64::NAN; 2];
+    }
+    [
+        m.reflection * theta_d.cos().powi(2) / m.masking,
+        m.transmission / m.masking,
+    ]
 }
 
 /// The masking plane of one thread: ⟨P⟩ at (βi, βo) for directions in the t0–z plane
@@ -878,26 +796,6 @@ pub fn bake_masking(fabric: &Fabric, geometry: &ThreadGeometry, index: usize) ->
         .collect()
 }
 
-/// Stored channels of one thread from its curve means and the θd' of each texel:
-/// (R·cos²θd'/⟨P⟩, T/⟨P⟩), with texels of ⟨P⟩ below [`MASKING_FLOOR`] filled from their
-/// neighbours.
-pub fn encode_thread(means: &[[f64; 3]], geometry: &ThreadGeometry) -> Vec<[f64; 2]> {
-    let n = geometry.axes.map(|a| a.texels);
-    let mut data: Vec<[f64; 2]> = means
-        .iter()
-        .enumerate()
-        .map(|(k, &[r, t, p])| {
-            if p < MASKING_FLOOR {
-                return [f64::NAN; 2];
-            }
-            let theta_d = geometry.axes[1].texel_value((k / n[0]) % n[1]);
-            [r * theta_d.cos().powi(2) / p, t / p]
-        })
-        .collect();
-    fill_undefined(&mut data, plane_dims(geometry));
-    data
-}
-
 /// Replaces NaN texels by the mean of their defined axis neighbours, sweep after sweep, so
 /// the stored function continues smoothly into texels where it is undefined. `dims` are the
 /// texel counts in plane order (fastest first: axis 0, axis 1, axis 3, axis 2).
@@ -905,7 +803,7 @@ pub fn encode_thread(means: &[[f64; 3]], geometry: &ThreadGeometry) -> Vec<[f64;
 /// Across u = 0 the table is glued to itself by the fold (u, v) → (−u, −v): the neighbour
 /// of texel (u = 0, v) below u = 0 is the texel (u₁, −v). Using it keeps the filled u = 0
 /// slice symmetric in v, as the function is, so lookups do not jump across the fold.
-pub(crate) fn fill_undefined(data: &mut [[f64; 2]], dims: [usize; 4]) {
+fn fill_undefined(data: &mut [[f64; 2]], dims: [usize; 4]) {
     let strides = [1, dims[0], dims[0] * dims[1], dims[0] * dims[1] * dims[2]];
     let folded_neighbour = |k: usize| {
         let i_v = (k / strides[2]) % dims[2];

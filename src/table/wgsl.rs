@@ -32,11 +32,9 @@ pub fn lookup_wgsl(table: &Table) -> String {
     {
         let _ = writeln!(
             out,
-            "const CLOTH_ALBEDO{} = vec3<f32>({}, {}, {});",
+            "const CLOTH_ALBEDO{} = {};",
             j + 1,
-            wgsl_f32(*r),
-            wgsl_f32(*g),
-            wgsl_f32(*b)
+            wgsl_vec(&[*r, *g, *b])
         );
     }
     out += &table.geometry().wgsl_constants();
@@ -59,8 +57,8 @@ pub fn lookup_wgsl(table: &Table) -> String {
 /// A WGSL f32 literal of `v` rounded to f32, for the constants of generated shaders:
 /// integers as `N.0`, others in the shortest exponent form that parses back to the same f32,
 /// with the `f` suffix (parsed directly as f32, no double rounding).
-pub fn wgsl_f32(v: f64) -> String {
-    let v = v as f32;
+pub fn wgsl_f32(v: impl Into<f64>) -> String {
+    let v = v.into() as f32;
     assert!(v.is_finite(), "non-finite shader constant {v}");
     if v == v.trunc() && v.abs() < 1e6 {
         format!("{v:.1}")
@@ -89,14 +87,19 @@ pub fn degenerate_threshold() -> f32 {
     }
 }
 
-/// `vec3<f32>(…)` of three values.
-pub fn wgsl_vec3(v: [f64; 3]) -> String {
+/// `CLOTH_COVERAGE` (a1, a2, gap = 1 − a1 − a2), the constant of the layouts that weigh
+/// threads by their coverage.
+pub fn coverage_wgsl(coverage: [f64; 2], gap: f64) -> String {
     format!(
-        "vec3<f32>({}, {}, {})",
-        wgsl_f32(v[0]),
-        wgsl_f32(v[1]),
-        wgsl_f32(v[2])
+        "// Coverage (a1, a2, gap = 1 − a1 − a2).\nconst CLOTH_COVERAGE = {};\n",
+        wgsl_vec(&[coverage[0], coverage[1], gap])
     )
+}
+
+/// `vecN<f32>(…)` of N values, each as [`wgsl_f32`].
+pub fn wgsl_vec<T: Into<f64> + Copy>(values: &[T]) -> String {
+    let parts: Vec<String> = values.iter().map(|&v| wgsl_f32(v)).collect();
+    format!("vec{}<f32>({})", values.len(), parts.join(", "))
 }
 
 #[cfg(test)]
