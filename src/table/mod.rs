@@ -369,7 +369,7 @@ impl Table {
 
     /// [`Self::lookup_f32`] of every pair of `pairs`, into `out` (same length): the batch
     /// entry point for callers shading many pairs (criterion: the same cost per pair as
-    /// single calls, 182–199 ns for thread_frame).
+    /// single calls, 204–215 ns for thread_frame).
     pub fn lookup_batch(&self, pairs: &[(Vec3, Vec3)], out: &mut [Vec3]) {
         assert_eq!(pairs.len(), out.len(), "one output per pair");
         for (&(wi, wo), f) in pairs.iter().zip(out.iter_mut()) {
