@@ -12,6 +12,8 @@
 //! - [`render`]: cloth rendered with a GPU BRDF (table lookup or direct), headless or into a
 //!   window; the CPU reference of the same view and image error metrics.
 //! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
+//! - [`sampling`]: importance sampling of a fabric: directions with a density close to F,
+//!   and that density (CPU; `shaders/sampling.wgsl` mirrors it).
 //! - [`direction_sets`]: the seeded direction pairs on which errors are measured.
 //! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
 //! - [`report`]: `clothbake report`, speed against error for every fabric (Markdown, JSON,
@@ -29,6 +31,7 @@ pub mod manifest;
 pub mod model;
 pub mod render;
 pub mod report;
+pub mod sampling;
 pub mod scene;
 pub mod table;
 pub mod table_file;
