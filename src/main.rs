@@ -3,11 +3,12 @@
 use clap::{Parser, Subcommand};
 use clothbake::accuracy::measure;
 use clothbake::bake_job::{self, BakeJob, Outcome, ResolutionChoice};
-use clothbake::eval_stream::{EvalOutput, eval_stream};
+use clothbake::eval_stream::{EvalOutput, SampleOutput, eval_stream, sample_stream};
 use clothbake::fabric_file::FabricSet;
 use clothbake::manifest;
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use clothbake::render;
+use clothbake::sampling::{Sampler, albedo_curve, describe_albedo};
 use clothbake::scene::Scene;
 use clothbake::table::Layout;
 use clothbake::table_file::read_table;
@@ -52,6 +53,38 @@ enum Command {
         /// Also look each pair up in this table and print it as "table":[r,g,b].
         #[arg(long)]
         table: Option<PathBuf>,
+        /// Also print the fabric sampler's density of wi given wo as "pdf":p (the density
+        /// `sample` draws with).
+        #[arg(long)]
+        pdf: bool,
+    },
+    /// Importance-sample F: JSON lines {"wo":[x,y,z],"u":[u1,u2,u3]} (u in [0, 1)) on stdin,
+    /// {"wi":[x,y,z],"pdf":p,"weight":[r,g,b]} out (weight = F/pdf; "wi":null when rejected).
+    Sample {
+        /// Fabric name.
+        #[arg(long)]
+        fabric: String,
+        /// Fabric file (TOML) to use instead of the built-in fabrics.
+        #[arg(long)]
+        fabrics: Option<PathBuf>,
+        /// F from this table's lookup instead of the direct evaluation.
+        #[arg(long)]
+        table: Option<PathBuf>,
+    },
+    /// Print each fabric's directional albedo ∫F dwi over outgoing elevation, and its maximum.
+    Albedo {
+        /// Fabric names (default: every fabric).
+        #[arg(long, num_args = 1.., conflicts_with = "table")]
+        fabric: Vec<String>,
+        /// Fabric file (TOML) to use instead of the built-in fabrics.
+        #[arg(long)]
+        fabrics: Option<PathBuf>,
+        /// F from this table's lookup (its own fabric) instead of the direct evaluation.
+        #[arg(long)]
+        table: Option<PathBuf>,
+        /// Importance samples per outgoing direction.
+        #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(16..=1_000_000))]
+        samples: u32,
     },
     /// Bake fabrics into EXR tables (by default the built-in six into tables/).
     Bake {
@@ -320,6 +353,7 @@ fn run(cli: Cli) -> Result<(), String> {
             nodes,
             fabrics,
             table,
+            pdf,
         } => {
             let integration = integration_rule(integration, samples, &nodes)?;
             let set = FabricSet::load_or_builtin(fabrics.as_deref()).map_err(|e| e.to_string())?;
@@ -328,6 +362,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let table = table
                 .map(|path| read_table(&path).map_err(|e| e.to_string()))
                 .transpose()?;
+            let sampler = pdf.then(|| Sampler::for_fabric(fabric));
             let stdin = std::io::BufReader::new(std::io::stdin());
             let stdout = std::io::stdout().lock();
             eval_stream(stdin, stdout, |wi, wo| EvalOutput {
@@ -335,9 +370,54 @@ fn run(cli: Cli) -> Result<(), String> {
                 table: table
                     .as_ref()
                     .map(|t| clothbake::accuracy::lookup_f32(&t.table, wi, wo).to_array()),
+                pdf: sampler.as_ref().map(|s| s.pdf(wo, wi)),
             })
             .map(|_| ())
             .map_err(|e| e.to_string())
+        }
+        Command::Sample {
+            fabric,
+            fabrics,
+            table,
+        } => {
+            let set = FabricSet::load_or_builtin(fabrics.as_deref()).map_err(|e| e.to_string())?;
+            let fabric = set.require(&fabric)?;
+            let f = brdf_of(fabric, table.as_deref())?;
+            let sampler = Sampler::for_fabric(fabric);
+            let stdin = std::io::BufReader::new(std::io::stdin());
+            let stdout = std::io::stdout().lock();
+            sample_stream(stdin, stdout, |wo, u| match sampler.sample(wo, u) {
+                Some(s) => SampleOutput {
+                    wi: Some(s.wi.to_array()),
+                    pdf: s.pdf,
+                    weight: (f(s.wi, wo) / s.pdf).to_array(),
+                },
+                None => SampleOutput::REJECTED,
+            })
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+        }
+        Command::Albedo {
+            fabric,
+            fabrics,
+            table,
+            samples,
+        } => {
+            let set = FabricSet::load_or_builtin(fabrics.as_deref()).map_err(|e| e.to_string())?;
+            let chosen: Vec<Fabric> = match &table {
+                Some(path) => vec![read_table(path).map_err(|e| e.to_string())?.table.fabric],
+                None if fabric.is_empty() => set.fabrics().to_vec(),
+                None => fabric
+                    .iter()
+                    .map(|name| set.require(name).cloned())
+                    .collect::<Result<_, _>>()?,
+            };
+            for fabric in &chosen {
+                let f = brdf_of(fabric, table.as_deref())?;
+                let rows = albedo_curve(&Sampler::for_fabric(fabric), f, samples as usize);
+                print!("{}", describe_albedo(&fabric.name, &rows, samples as usize));
+            }
+            Ok(())
         }
         Command::Bake {
             fabric,
@@ -559,6 +639,24 @@ fn run(cli: Cli) -> Result<(), String> {
             Ok(())
         }
     }
+}
+
+/// F(wi, wo) by the direct evaluation of `fabric`, or by the f32 lookup of the table at
+/// `table` when given.
+fn brdf_of(
+    fabric: &Fabric,
+    table: Option<&std::path::Path>,
+) -> Result<Box<dyn Fn(glam::DVec3, glam::DVec3) -> glam::DVec3 + Sync>, String> {
+    Ok(match table {
+        Some(path) => {
+            let table = read_table(path).map_err(|e| e.to_string())?.table;
+            Box::new(move |wi, wo| clothbake::accuracy::lookup_f32(&table, wi, wo))
+        }
+        None => {
+            let patch = Patch::new(fabric, Integration::Direct);
+            Box::new(move |wi, wo| patch.eval(wi, wo))
+        }
+    })
 }
 
 /// `clothbake view`: runs the viewer, then reports the frames drawn and their median time.

@@ -43,9 +43,9 @@ use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Elevation nodes over wo (0° to 90°).
-pub const ELEVATION_NODES: usize = 10;
+pub const ELEVATION_NODES: usize = 9;
 /// Azimuth nodes over wo (periodic).
-pub const AZIMUTH_NODES: usize = 24;
+pub const AZIMUTH_NODES: usize = 16;
 /// Elevation bands of a node's density over wi.
 pub const ROWS: usize = 32;
 /// Azimuth sectors of a node's density over wi.
@@ -195,13 +195,13 @@ impl Sampler {
             let (z0, z1) = (row_z(r), row_z(r + 1));
             for (c, cell) in cells.iter_mut().enumerate() {
                 let mut sum = 0.0;
-                for (a, b) in [(0.25, 0.25), (0.25, 0.75), (0.75, 0.25), (0.75, 0.75)] {
+                for (a, b) in [(0.25, 0.25), (0.75, 0.75)] {
                     let wi = direction_at_z(z0 + a * (z1 - z0), (c as f64 + b) * column_width);
                     let v = f(wi, wo);
                     sum += (v.x + v.y + v.z) / 3.0;
                 }
                 // Mean value × solid angle; a non-finite or negative F is treated as 0.
-                let value = sum / 4.0 * (z1 - z0) * column_width;
+                let value = sum / 2.0 * (z1 - z0) * column_width;
                 *cell = if value.is_finite() && value > 0.0 {
                     value
                 } else {
@@ -348,4 +348,91 @@ pub fn hammersley(k: u32, n: u32) -> [f64; 3] {
         inv
     };
     [(k as f64 + 0.5) / n as f64, radical(k, 2), radical(k, 3)]
+}
+
+/// Outgoing elevations (degrees) at which [`albedo_curve`] measures the albedo.
+pub const ALBEDO_ELEVATIONS_DEG: [f64; 11] = [
+    1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0, 85.0, 90.0,
+];
+/// Outgoing azimuths per elevation, evenly spaced from thread 1.
+pub const ALBEDO_AZIMUTHS: usize = 8;
+
+/// The directional albedo at one outgoing elevation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlbedoRow {
+    pub elevation_deg: f64,
+    /// Mean over the azimuths of ∫F dwi (RGB).
+    pub mean: DVec3,
+    /// The largest channel mean of ∫F dwi over the azimuths, and the azimuth (degrees).
+    pub max: (f64, f64),
+    /// The largest standard error (channel mean) of one azimuth's estimate.
+    pub standard_error: f64,
+}
+
+/// The directional albedo `∫ F(wi, wo) dwi` of a fabric over outgoing elevation
+/// ([`ALBEDO_ELEVATIONS_DEG`] × [`ALBEDO_AZIMUTHS`] azimuths), by importance sampling with
+/// `samples` draws per direction; directions in parallel, deterministic.
+pub fn albedo_curve(
+    sampler: &Sampler,
+    f: impl Fn(DVec3, DVec3) -> DVec3 + Sync,
+    samples: usize,
+) -> Vec<AlbedoRow> {
+    ALBEDO_ELEVATIONS_DEG
+        .iter()
+        .map(|&elevation| {
+            let estimates: Vec<(DVec3, f64, f64)> = (0..ALBEDO_AZIMUTHS)
+                .into_par_iter()
+                .map(|k| {
+                    let azimuth = 360.0 * k as f64 / ALBEDO_AZIMUTHS as f64;
+                    let wo = direction(elevation.to_radians(), azimuth.to_radians());
+                    let (albedo, sigma) = directional_albedo(sampler, &f, wo, samples);
+                    (albedo, sigma / (samples as f64).sqrt(), azimuth)
+                })
+                .collect();
+            let mean = estimates.iter().map(|e| e.0).sum::<DVec3>() / estimates.len() as f64;
+            let channel_mean = |v: DVec3| (v.x + v.y + v.z) / 3.0;
+            let max = estimates
+                .iter()
+                .map(|e| (channel_mean(e.0), e.2))
+                .fold((f64::MIN, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+            let standard_error = estimates.iter().map(|e| e.1).fold(0.0, f64::max);
+            AlbedoRow {
+                elevation_deg: elevation,
+                mean,
+                max,
+                standard_error,
+            }
+        })
+        .collect()
+}
+
+/// The albedo curve as a text table (what `clothbake albedo` prints for one fabric).
+pub fn describe_albedo(name: &str, rows: &[AlbedoRow], samples: usize) -> String {
+    use std::fmt::Write;
+    let mut out = format!(
+        "{name}: directional albedo ∫F dwi over outgoing elevation (mean of {ALBEDO_AZIMUTHS} \
+         azimuths, {samples} importance samples each)\n  elevation        R        G        B   \
+         max (RGB mean) at azimuth   std. error\n"
+    );
+    for row in rows {
+        let _ = writeln!(
+            out,
+            "  {:>8.0}° {:>8.4} {:>8.4} {:>8.4}   {:>8.4} at {:>5.1}°        {:.1e}",
+            row.elevation_deg,
+            row.mean.x,
+            row.mean.y,
+            row.mean.z,
+            row.max.0,
+            row.max.1,
+            row.standard_error
+        );
+    }
+    if let Some(top) = rows.iter().max_by(|a, b| a.max.0.total_cmp(&b.max.0)) {
+        let _ = writeln!(
+            out,
+            "  maximum: {:.4} (RGB mean) at elevation {:.0}°, azimuth {:.1}°",
+            top.max.0, top.elevation_deg, top.max.1
+        );
+    }
+    out
 }
