@@ -1,0 +1,85 @@
+//! What changes from frame to frame ([`FrameSettings`]: camera, lights, exposure,
+//! background) and its packing into the uniform block of shaders/render.wgsl. The packing is
+//! private to the renderer; only its layout has to match the WGSL.
+
+use super::{Camera, LightSource};
+use crate::scene::{MAX_LIGHTS, Scene};
+use bytemuck::{Pod, Zeroable};
+
+/// Everything that changes from frame to frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameSettings {
+    pub camera: Camera,
+    /// At most [`MAX_LIGHTS`]; more are ignored.
+    pub lights: Vec<LightSource>,
+    /// Radiance scale before tone mapping.
+    pub exposure: f32,
+    /// Background display colour (sRGB-encoded values in [0, 1]).
+    pub background: [f32; 3],
+}
+
+/// The default background: dark grey.
+pub const BACKGROUND: [f32; 3] = [0.06, 0.06, 0.07];
+
+impl FrameSettings {
+    /// The camera, lights and exposure of a scene.
+    pub fn from_scene(scene: &Scene) -> Self {
+        Self {
+            camera: Camera::orbit(&scene.camera),
+            lights: scene.lights.iter().map(LightSource::from_scene).collect(),
+            exposure: scene.exposure as f32,
+            background: BACKGROUND,
+        }
+    }
+}
+
+/// One light of [`FrameUniform`] (WGSL `RenderLight`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+struct LightUniform {
+    vector: [f32; 4],
+    power: [f32; 4],
+}
+
+/// The uniform block of shaders/render.wgsl (`RenderFrameUniform`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub(super) struct FrameUniform {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    params: [f32; 4],
+    counts: [u32; 4],
+    lights: [LightUniform; MAX_LIGHTS],
+}
+
+impl FrameUniform {
+    pub(super) fn new(settings: &FrameSettings, aspect: f32, encode_srgb: bool) -> Self {
+        let mut lights = [LightUniform::default(); MAX_LIGHTS];
+        let count = settings.lights.len().min(MAX_LIGHTS);
+        for (slot, light) in lights.iter_mut().zip(&settings.lights) {
+            *slot = match *light {
+                LightSource::Directional {
+                    direction,
+                    irradiance,
+                } => LightUniform {
+                    vector: direction.extend(0.0).to_array(),
+                    power: irradiance.extend(0.0).to_array(),
+                },
+                LightSource::Point {
+                    position,
+                    intensity,
+                } => LightUniform {
+                    vector: position.extend(1.0).to_array(),
+                    power: intensity.extend(0.0).to_array(),
+                },
+            };
+        }
+        Self {
+            view_proj: settings.camera.view_proj(aspect).to_cols_array_2d(),
+            eye: settings.camera.eye.extend(1.0).to_array(),
+            params: [settings.exposure, encode_srgb as u32 as f32, 0.0, 0.0],
+            counts: [count as u32, 0, 0, 0],
+            lights,
+        }
+    }
+}

@@ -1,0 +1,460 @@
+//! The render pipelines: [`Renderer`] records a frame (or the G-buffer of the CPU
+//! reference) into targets it is given, with the texture formats those targets must have
+//! and whether the device can render to them. Knows nothing of offscreen targets or
+//! read-back, so that the viewer and [`super::Headless`] share it.
+
+use super::FrameSettings;
+use super::frame::FrameUniform;
+use super::headless::target;
+use super::image;
+use super::mesh::{Mesh, Vertex};
+use crate::gpu::{GpuBrdf, GpuContext, GpuError};
+use std::collections::HashMap;
+use wgpu::util::DeviceExt;
+
+/// The render shader, appended to a [`GpuBrdf::wgsl`].
+pub const RENDER_WGSL: &str = include_str!("../../shaders/render.wgsl");
+
+/// A `cloth_brdf` that returns 0, for the G-buffer pipeline (which never calls it).
+const STUB_BRDF_WGSL: &str =
+    "fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> { return vec3<f32>(0.0); }\n";
+
+/// Depth buffer format of every pass.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Format of the linear-radiance target (alpha = coverage) where the device can render to
+/// it (Vulkan, Metal, DX12); see [`linear_format`].
+pub const LINEAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// The fallback linear format (wgpu's GL backend cannot render to 32-bit float): relative
+/// rounding 2^-11, largest value 65504.
+pub const LINEAR_FORMAT_F16: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the three G-buffer targets (position, tangent, normal): 32-bit only, as f16
+/// positions would move the reference's directions by ~1e-3 rad.
+pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Fails with a clear message where the device cannot render to [`GBUFFER_FORMAT`].
+pub(super) fn check_gbuffer_support(context: &GpuContext) -> Result<(), GpuError> {
+    if float32_renderable(context) {
+        return Ok(());
+    }
+    Err(GpuError::Invalid {
+        name: "G-buffer (CPU reference)".into(),
+        message: "needs Rgba32Float render targets, which this device lacks (wgpu's GL \
+                  backend); use Vulkan (lavapipe without a GPU), Metal or DX12"
+            .into(),
+    })
+}
+
+/// Whether the device can render to `Rgba32Float` (tried on a 1×1 texture).
+pub fn float32_renderable(context: &GpuContext) -> bool {
+    context
+        .checked(|| target(context, "probe", wgpu::TextureFormat::Rgba32Float, 1, 1))
+        .is_ok()
+}
+
+/// The linear-radiance format for this device: [`LINEAR_FORMAT`], else [`LINEAR_FORMAT_F16`].
+pub fn linear_format(context: &GpuContext) -> wgpu::TextureFormat {
+    if float32_renderable(context) {
+        LINEAR_FORMAT
+    } else {
+        LINEAR_FORMAT_F16
+    }
+}
+
+/// The targets of one frame. `linear` may be given only when the renderer was made with a
+/// linear output (of [`Renderer::linear_format`]); without it the frame is the display image
+/// alone, as a real-time frame. `depth` is [`DEPTH_FORMAT`]; all of `size`.
+pub struct FrameTargets<'a> {
+    pub color: &'a wgpu::TextureView,
+    pub linear: Option<&'a wgpu::TextureView>,
+    pub depth: &'a wgpu::TextureView,
+    /// Width and height in pixels (for the aspect ratio).
+    pub size: (u32, u32),
+}
+
+/// The targets of a G-buffer pass: three [`GBUFFER_FORMAT`] views (position with
+/// coverage in w, tangent, normal) and a depth view, all of `size`.
+pub struct GBufferTargets<'a> {
+    pub position: &'a wgpu::TextureView,
+    pub tangent: &'a wgpu::TextureView,
+    pub normal: &'a wgpu::TextureView,
+    pub depth: &'a wgpu::TextureView,
+    pub size: (u32, u32),
+}
+
+/// The pipelines of one BRDF shader: the display image alone, and display plus linear
+/// radiance (when the renderer has a linear output).
+#[derive(Clone)]
+struct Pipelines {
+    display: wgpu::RenderPipeline,
+    display_linear: Option<wgpu::RenderPipeline>,
+}
+
+/// The cloth render pipeline: a mesh, a [`GpuBrdf`], the uniforms of a frame.
+///
+/// The pipelines of each distinct BRDF shader are built once and kept, so switching between BRDFs
+/// already seen (fabrics of one table layout, lookup/direct) costs no shader compilation.
+pub struct Renderer {
+    color_format: wgpu::TextureFormat,
+    /// The format of the linear-radiance output, if any.
+    linear_format: Option<wgpu::TextureFormat>,
+    /// The shader applies the sRGB transfer function (the colour format does not).
+    encode_srgb: bool,
+    frame_layout: wgpu::BindGroupLayout,
+    frame_buffer: wgpu::Buffer,
+    frame_group: wgpu::BindGroup,
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    brdf_group: wgpu::BindGroup,
+    brdf_label: String,
+    /// The current BRDF's pipelines (set by `new`), kept out of the map so that a frame
+    /// does not hash the shader source to find them.
+    current: Option<Pipelines>,
+    /// Pipelines by shader source.
+    pipelines: HashMap<String, Pipelines>,
+    gbuffer_pipeline: Option<wgpu::RenderPipeline>,
+}
+
+impl Renderer {
+    /// A renderer drawing `mesh` shaded by `brdf` into targets of `color_format` (tone
+    /// mapped; sRGB-encoded by the format if it is an `…Srgb` format, else by the shader),
+    /// plus a linear-radiance target of [`linear_format`] when `linear_output` (see
+    /// [`Renderer::linear_format`]).
+    pub fn new(
+        context: &GpuContext,
+        color_format: wgpu::TextureFormat,
+        linear_output: bool,
+        mesh: &Mesh,
+        brdf: &dyn GpuBrdf,
+    ) -> Result<Self, GpuError> {
+        if mesh.vertices.is_empty() || mesh.indices.len() < 3 {
+            return Err(GpuError::Invalid {
+                name: "mesh".into(),
+                message: "has no triangles".into(),
+            });
+        }
+        let device = &context.device;
+        let (frame_layout, frame_buffer, frame_group, vertices, indices) =
+            context.checked(|| {
+                let frame_layout =
+                    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                        label: Some("render frame"),
+                        entries: &[wgpu::BindGroupLayoutEntry {
+                            binding: 0,
+                            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                            ty: wgpu::BindingType::Buffer {
+                                ty: wgpu::BufferBindingType::Uniform,
+                                has_dynamic_offset: false,
+                                min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<
+                                    FrameUniform,
+                                >(
+                                )
+                                    as u64),
+                            },
+                            count: None,
+                        }],
+                    });
+                let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("render frame"),
+                    size: std::mem::size_of::<FrameUniform>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("render frame"),
+                    layout: &frame_layout,
+                    entries: &[wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: frame_buffer.as_entire_binding(),
+                    }],
+                });
+                let (vertices, indices) = mesh_buffers(device, mesh);
+                (frame_layout, frame_buffer, frame_group, vertices, indices)
+            })?;
+        let mut renderer = Self {
+            color_format,
+            linear_format: linear_output.then(|| linear_format(context)),
+            encode_srgb: !color_format.is_srgb(),
+            frame_layout,
+            frame_buffer,
+            frame_group,
+            vertices,
+            indices,
+            index_count: mesh.indices.len() as u32,
+            brdf_group: brdf.bind_group().clone(),
+            brdf_label: String::new(),
+            current: None,
+            pipelines: HashMap::new(),
+            gbuffer_pipeline: None,
+        };
+        renderer.set_brdf(context, brdf)?;
+        Ok(renderer)
+    }
+
+    /// Shades with `brdf` from now on (builds its pipeline unless one for the same shader
+    /// was built before).
+    pub fn set_brdf(&mut self, context: &GpuContext, brdf: &dyn GpuBrdf) -> Result<(), GpuError> {
+        let source = brdf.wgsl() + "\n" + RENDER_WGSL;
+        if let Some(pipelines) = self.pipelines.get(&source) {
+            self.current = Some(pipelines.clone());
+        } else {
+            let display = wgpu::ColorTargetState::from(self.color_format);
+            let pipelines = context.checked(|| {
+                let layout = Some(brdf.bind_group_layout());
+                let module = shader_module(context, &source);
+                Pipelines {
+                    display: self.pipeline(
+                        context,
+                        &module,
+                        layout,
+                        "fs_display",
+                        &[Some(display.clone())],
+                    ),
+                    display_linear: self.linear_format.map(|format| {
+                        self.pipeline(
+                            context,
+                            &module,
+                            layout,
+                            "fs_display_linear",
+                            &[Some(display.clone()), Some(format.into())],
+                        )
+                    }),
+                }
+            })?;
+            self.current = Some(pipelines.clone());
+            self.pipelines.insert(source, pipelines);
+        }
+        self.brdf_group = brdf.bind_group().clone();
+        self.brdf_label = brdf.label();
+        Ok(())
+    }
+
+    /// The label of the current BRDF ([`GpuBrdf::label`]).
+    pub fn brdf_label(&self) -> &str {
+        &self.brdf_label
+    }
+
+    /// The format its linear-radiance target must have (`None`: made without one).
+    pub fn linear_format(&self) -> Option<wgpu::TextureFormat> {
+        self.linear_format
+    }
+
+    /// The pipeline drawing the mesh with fragment entry point `fragment` of `module` (the
+    /// render WGSL appended to a BRDF's) into `targets`.
+    fn pipeline(
+        &self,
+        context: &GpuContext,
+        module: &wgpu::ShaderModule,
+        brdf_layout: Option<&wgpu::BindGroupLayout>,
+        fragment: &str,
+        targets: &[Option<wgpu::ColorTargetState>],
+    ) -> wgpu::RenderPipeline {
+        let device = &context.device;
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("render"),
+            bind_group_layouts: &[brdf_layout, Some(&self.frame_layout)],
+            immediate_size: 0,
+        });
+        let attributes = wgpu::vertex_attr_array![
+            0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x2
+        ];
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(fragment),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<Vertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &attributes,
+                })],
+            },
+            // Cloth is two-sided: no culling (the shader flips the frame to the viewer).
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                cull_mode: None,
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(fragment),
+                compilation_options: Default::default(),
+                targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    fn write_uniforms(&self, queue: &wgpu::Queue, settings: &FrameSettings, size: (u32, u32)) {
+        let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
+        let uniform = FrameUniform::new(settings, aspect, self.encode_srgb);
+        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&uniform));
+    }
+
+    /// Records one frame: clears the targets (colour to `settings.background`, linear
+    /// radiance and coverage to 0, depth to 1) and draws the cloth. The frame's uniforms
+    /// are written through `queue` and take effect at the next submit, so submit each frame
+    /// before encoding the next. `timestamps` brackets the pass with GPU timestamp writes.
+    pub fn encode(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &FrameTargets<'_>,
+        settings: &FrameSettings,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) {
+        self.write_uniforms(queue, settings, targets.size);
+        let background = settings.background.map(|c| {
+            let c = c.clamp(0.0, 1.0) as f64;
+            // An …Srgb target encodes the clear value: give it the linear value.
+            if self.encode_srgb {
+                c
+            } else {
+                image::srgb_decode(c as f32) as f64
+            }
+        });
+        let clear = |color: wgpu::Color, view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(color),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut attachments = vec![clear(
+            wgpu::Color {
+                r: background[0],
+                g: background[1],
+                b: background[2],
+                a: 1.0,
+            },
+            targets.color,
+        )];
+        if let Some(linear) = targets.linear {
+            attachments.push(clear(wgpu::Color::TRANSPARENT, linear));
+        }
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("cloth"),
+            color_attachments: &attachments,
+            depth_stencil_attachment: Some(depth_attachment(targets.depth)),
+            timestamp_writes: timestamps,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let pipelines = self.current.as_ref().expect("Renderer::new sets a BRDF");
+        let pipeline = match targets.linear {
+            Some(_) => pipelines
+                .display_linear
+                .as_ref()
+                .expect("a linear target needs a renderer made with a linear output"),
+            None => &pipelines.display,
+        };
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.brdf_group, &[]);
+        pass.set_bind_group(1, &self.frame_group, &[]);
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.index_count, 0, 0..1);
+    }
+
+    /// Records the G-buffer of the view: per pixel the world position (w = 1 where the cloth
+    /// covers it, cleared to 0) and the shading frame's tangent and normal exactly as the
+    /// render pass computes them, for shading the same pixels on the CPU.
+    pub fn encode_gbuffer(
+        &mut self,
+        context: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &GBufferTargets<'_>,
+        settings: &FrameSettings,
+    ) -> Result<(), GpuError> {
+        if self.gbuffer_pipeline.is_none() {
+            check_gbuffer_support(context)?;
+            let source = STUB_BRDF_WGSL.to_string() + RENDER_WGSL;
+            let formats: [Option<wgpu::ColorTargetState>; 3] =
+                std::array::from_fn(|_| Some(GBUFFER_FORMAT.into()));
+            let pipeline = context.checked(|| {
+                let module = shader_module(context, &source);
+                self.pipeline(context, &module, None, "fs_gbuffer", &formats)
+            })?;
+            self.gbuffer_pipeline = Some(pipeline);
+        }
+        self.write_uniforms(&context.queue, settings, targets.size);
+        let clear = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("gbuffer"),
+            color_attachments: &[
+                clear(targets.position),
+                clear(targets.tangent),
+                clear(targets.normal),
+            ],
+            depth_stencil_attachment: Some(depth_attachment(targets.depth)),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(self.gbuffer_pipeline.as_ref().expect("built above"));
+        pass.set_bind_group(1, &self.frame_group, &[]);
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.index_count, 0, 0..1);
+        Ok(())
+    }
+}
+
+fn shader_module(context: &GpuContext, source: &str) -> wgpu::ShaderModule {
+    context
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("render.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        })
+}
+
+fn depth_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Clear(1.0),
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    }
+}
+
+fn mesh_buffers(device: &wgpu::Device, mesh: &Mesh) -> (wgpu::Buffer, wgpu::Buffer) {
+    let vertices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("cloth vertices"),
+        contents: bytemuck::cast_slice(&mesh.vertices),
+        usage: wgpu::BufferUsages::VERTEX,
+    });
+    let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("cloth indices"),
+        contents: bytemuck::cast_slice(&mesh.indices),
+        usage: wgpu::BufferUsages::INDEX,
+    });
+    (vertices, indices)
+}
