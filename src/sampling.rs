@@ -23,7 +23,7 @@
 //!   bands of equal angle (row r spans elevations r·90°/R to (r + 1)·90°/R, so the bands near
 //!   the normal are not a single cap as equal-area bands would be) by `COLUMNS` azimuth
 //!   sectors. A cell's probability is proportional to its integral of the mean RGB of F,
-//!   estimated from 2 × 2 stratified points; inside a cell wi is uniform in solid angle
+//!   estimated from two points on the cell's diagonal; inside a cell wi is uniform in solid angle
 //!   (uniform in z = sin(elevation) and in azimuth), so the cell's density is its probability
 //!   over its solid angle (z_{r+1} − z_r)·2π/C.
 //! - **Data.** Per node `n = i·A + j`, `NODE_STRIDE` f32: the marginal CDF over rows
@@ -191,10 +191,12 @@ impl Sampler {
         let mut out = vec![0.0f32; NODE_STRIDE];
         let mut row_weights = [0.0f64; ROWS];
         let mut cells = [0.0f64; COLUMNS];
-        for r in 0..ROWS {
+        for (r, row_weight) in row_weights.iter_mut().enumerate() {
             let (z0, z1) = (row_z(r), row_z(r + 1));
             for (c, cell) in cells.iter_mut().enumerate() {
                 let mut sum = 0.0;
+                // Two points on the cell's diagonal: half the cost of 2 × 2, and the variance
+                // of the tests' albedo estimates moved by less than a factor 2.
                 for (a, b) in [(0.25, 0.25), (0.75, 0.75)] {
                     let wi = direction_at_z(z0 + a * (z1 - z0), (c as f64 + b) * column_width);
                     let v = f(wi, wo);
@@ -208,7 +210,7 @@ impl Sampler {
                     0.0
                 };
             }
-            row_weights[r] = cells.iter().sum();
+            *row_weight = cells.iter().sum();
             let start = ROWS + 1 + r * (COLUMNS + 1);
             write_cdf(&cells, &mut out[start..start + COLUMNS + 1]);
         }

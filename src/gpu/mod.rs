@@ -13,17 +13,21 @@
 //!   specialised per fabric and node counts by [`resonant::resonant_wgsl`]; mirrors
 //!   `Integration::Resonant(nodes)`): Gauss–Legendre nodes per segment placed on each lobe.
 //! - [`GpuConstant`]: F = 1/π, the cost of a frame without BRDF work, for measurements.
+//! - [`GpuSampler`]: a fabric's importance sampler (`shaders/sampling.wgsl`, mirrors
+//!   [`crate::sampling::Sampler`]).
 //! - [`evaluate_pairs`]: F(wi, wo) for a list of direction pairs by any [`GpuBrdf`]
 //!   (`shaders/eval_pairs.wgsl`), for tests and measurements.
 
 pub mod constant;
 pub mod direct;
 pub mod resonant;
+pub mod sampler;
 pub mod table;
 
 pub use constant::GpuConstant;
 pub use direct::GpuDirect;
 pub use resonant::GpuResonant;
+pub use sampler::GpuSampler;
 pub use table::GpuTable;
 
 use glam::Vec3;
@@ -232,22 +236,48 @@ pub fn evaluate_pairs(
     brdf: &dyn GpuBrdf,
     pairs: &[(Vec3, Vec3)],
 ) -> Result<Vec<[f32; 3]>, GpuError> {
-    let evaluator = context.checked(|| PairEvaluator::new(context, brdf))?;
+    let source = brdf.wgsl() + "\n" + EVAL_PAIRS_WGSL;
+    let results = run_pairs(
+        context,
+        (brdf.bind_group_layout(), brdf.bind_group()),
+        &source,
+        "eval_pairs_main",
+        pairs,
+    )?;
+    Ok(results.into_iter().map(|v| [v[0], v[1], v[2]]).collect())
+}
+
+/// Runs compute entry point `entry` of `source` once per pair of 3-vectors: the pairs are
+/// `eval_pairs[2k]`, `eval_pairs[2k + 1]` and the results `eval_results[k]` (vec4) in
+/// @group(1) as `shaders/eval_pairs.wgsl` declares them; `group0` is bound at @group(0).
+pub(crate) fn run_pairs(
+    context: &GpuContext,
+    group0: (&wgpu::BindGroupLayout, &wgpu::BindGroup),
+    source: &str,
+    entry: &str,
+    pairs: &[(Vec3, Vec3)],
+) -> Result<Vec<[f32; 4]>, GpuError> {
+    let evaluator = context.checked(|| PairEvaluator::new(context, group0.0, source, entry))?;
     let mut results = Vec::with_capacity(pairs.len());
     for chunk in pairs.chunks(PAIRS_PER_DISPATCH) {
-        results.extend(context.checked(|| evaluator.dispatch(context, brdf, chunk))??);
+        results.extend(context.checked(|| evaluator.dispatch(context, group0.1, chunk))??);
     }
     Ok(results)
 }
 
-/// The compute pipeline of [`evaluate_pairs`] for one [`GpuBrdf`].
+/// The compute pipeline of [`run_pairs`] for one module and entry point.
 struct PairEvaluator {
     pipeline: wgpu::ComputePipeline,
     buffers_layout: wgpu::BindGroupLayout,
 }
 
 impl PairEvaluator {
-    fn new(context: &GpuContext, brdf: &dyn GpuBrdf) -> Self {
+    fn new(
+        context: &GpuContext,
+        group0: &wgpu::BindGroupLayout,
+        source: &str,
+        entry: &str,
+    ) -> Self {
         let device = &context.device;
         let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
             binding,
@@ -265,19 +295,18 @@ impl PairEvaluator {
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("eval_pairs"),
-            bind_group_layouts: &[Some(brdf.bind_group_layout()), Some(&buffers_layout)],
+            bind_group_layouts: &[Some(group0), Some(&buffers_layout)],
             immediate_size: 0,
         });
-        let source = brdf.wgsl() + "\n" + EVAL_PAIRS_WGSL;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("eval_pairs.wgsl"),
+            label: Some(entry),
             source: wgpu::ShaderSource::Wgsl(source.into()),
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("eval_pairs"),
             layout: Some(&layout),
             module: &module,
-            entry_point: Some("eval_pairs_main"),
+            entry_point: Some(entry),
             compilation_options: Default::default(),
             cache: None,
         });
@@ -290,9 +319,9 @@ impl PairEvaluator {
     fn dispatch(
         &self,
         context: &GpuContext,
-        brdf: &dyn GpuBrdf,
+        group0: &wgpu::BindGroup,
         pairs: &[(Vec3, Vec3)],
-    ) -> Result<Vec<[f32; 3]>, GpuError> {
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
         if pairs.is_empty() {
             return Ok(Vec::new());
         }
@@ -343,7 +372,7 @@ impl PairEvaluator {
                 timestamp_writes: None,
             });
             pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, brdf.bind_group(), &[]);
+            pass.set_bind_group(0, group0, &[]);
             pass.set_bind_group(1, &buffers, &[]);
             pass.dispatch_workgroups(pairs.len().div_ceil(WORKGROUP_SIZE) as u32, 1, 1);
         }
@@ -364,11 +393,10 @@ impl PairEvaluator {
         let view = slice
             .get_mapped_range()
             .map_err(|e| GpuError::Wgpu(e.to_string()))?;
-        let values: &[[f32; 4]] = bytemuck::cast_slice(&view);
-        let rgb = values.iter().map(|v| [v[0], v[1], v[2]]).collect();
+        let values: Vec<[f32; 4]> = bytemuck::cast_slice(&view).to_vec();
         drop(view);
         readback.unmap();
-        Ok(rgb)
+        Ok(values)
     }
 }
 

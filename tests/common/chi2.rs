@@ -11,6 +11,18 @@ use clothbake::sampling::{COLUMNS, ROWS};
 use glam::DVec3;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
+/// Outgoing directions (elevation, azimuth in degrees): the normal, then down to 1° above
+/// the horizon, azimuths spread so that each falls between sampler nodes.
+pub const OUTGOING: [(f64, f64); 8] = [
+    (90.0, 0.0),
+    (63.0, 17.0),
+    (41.0, 131.0),
+    (24.0, 222.0),
+    (11.0, 305.0),
+    (5.0, 48.0),
+    (2.0, 170.0),
+    (1.0, 261.0),
+];
 /// Bins of the test over z (equal area: uniform in z) …
 pub const Z_BINS: usize = 24;
 /// … and over azimuth: 32 divides the sampler's 64 sectors, so no sector straddles a bin.

@@ -1,0 +1,99 @@
+//! The fabric sampler on the GPU: [`crate::sampling::Sampler`]'s data in a read-only storage
+//! buffer and its WGSL (`shaders/sampling.wgsl`), plus compute runs of its two functions for
+//! tests and measurements.
+
+use super::{BRDF_VISIBILITY, GpuContext, GpuError, run_pairs};
+use crate::sampling::Sampler;
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+/// `sampling_sample` and `sampling_pdf` (and the helpers they need), without a binding.
+pub const SAMPLING_WGSL: &str = include_str!("../../shaders/sampling.wgsl");
+/// Compute entry points over the sampler, for [`GpuSampler::draw`] and [`GpuSampler::pdf`].
+pub const SAMPLE_DRAWS_WGSL: &str = include_str!("../../shaders/sample_draws.wgsl");
+
+/// A fabric's sampler uploaded to the GPU.
+pub struct GpuSampler {
+    pub buffer: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+    group: wgpu::BindGroup,
+}
+
+/// The storage binding layout entry of the sampler's data.
+pub fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: BRDF_VISIBILITY,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// The sampler's WGSL functions with the constants of its layout; the including module
+/// declares the binding `sampling_data`.
+pub fn sampling_wgsl() -> String {
+    Sampler::wgsl_constants() + SAMPLING_WGSL
+}
+
+impl GpuSampler {
+    /// Uploads `sampler`'s data.
+    pub fn new(context: &GpuContext, sampler: &Sampler) -> Result<Self, GpuError> {
+        let device = &context.device;
+        context.checked(|| {
+            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("fabric sampler"),
+                contents: bytemuck::cast_slice(sampler.data()),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("fabric sampler"),
+                entries: &[sampler_entry(0)],
+            });
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("fabric sampler"),
+                layout: &layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffer.as_entire_binding(),
+                }],
+            });
+            Self {
+                buffer,
+                layout,
+                group,
+            }
+        })
+    }
+
+    fn run(
+        &self,
+        context: &GpuContext,
+        entry: &str,
+        pairs: &[(Vec3, Vec3)],
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        let source = sampling_wgsl() + "\n" + SAMPLE_DRAWS_WGSL;
+        run_pairs(context, (&self.layout, &self.group), &source, entry, pairs)
+    }
+
+    /// `sampling_sample(wo, u)` for each `(wo, u)`: (wi, pdf), all zero when rejected.
+    pub fn draw(
+        &self,
+        context: &GpuContext,
+        requests: &[(Vec3, Vec3)],
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.run(context, "sample_draws_main", requests)
+    }
+
+    /// `sampling_pdf(wo, wi)` for each `(wo, wi)`.
+    pub fn pdf(&self, context: &GpuContext, pairs: &[(Vec3, Vec3)]) -> Result<Vec<f32>, GpuError> {
+        Ok(self
+            .run(context, "sample_pdf_main", pairs)?
+            .into_iter()
+            .map(|v| v[0])
+            .collect())
+    }
+}
