@@ -234,3 +234,108 @@ fn eval_streams_many_lines_in_order() {
         assert_eq!(parse_f(lines[i]), expected.to_array(), "line {}", i + 1);
     }
 }
+
+/// The numbers of a JSON array field `name` of one output line.
+fn json_array(line: &str, name: &str) -> Option<Vec<f64>> {
+    let value: serde_json::Value = serde_json::from_str(line).unwrap();
+    value[name]
+        .as_array()
+        .map(|a| a.iter().map(|x| x.as_f64().unwrap()).collect())
+}
+
+#[test]
+fn sample_agrees_with_eval_pdf_and_f() {
+    // Draws for a few wo (one below the horizon: rejected), then each drawn pair through
+    // `eval --pdf`: the same density, and weight·pdf = F (both the direct evaluation).
+    let requests = [
+        ([0.0, 0.0, 1.0], [0.3, 0.6, 0.95]),
+        ([0.4, -0.2, 0.5], [0.71, 0.12, 0.44]),
+        ([0.9, 0.1, 0.05], [0.05, 0.9, 0.03]),
+        ([0.2, 0.3, 0.7], [0.999, 0.001, 0.5]),
+        ([0.2, 0.3, -0.7], [0.5, 0.5, 0.5]),
+    ];
+    let input: String = requests
+        .iter()
+        .map(|(wo, u)| format!("{{\"wo\":{wo:?},\"u\":{u:?}}}\n"))
+        .collect();
+    let out = clothbake(&["sample", "--fabric", "silk_shot"], &input);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), requests.len());
+    assert_eq!(
+        lines[4], r#"{"wi":null,"pdf":0.0,"weight":[0.0,0.0,0.0]}"#,
+        "a wo below the horizon is rejected"
+    );
+    let mut pairs = String::new();
+    let mut drawn = Vec::new();
+    for (line, (wo, _)) in lines[..4].iter().zip(&requests) {
+        let wi = json_array(line, "wi").expect("an accepted draw");
+        let value: serde_json::Value = serde_json::from_str(line).unwrap();
+        let pdf = value["pdf"].as_f64().unwrap();
+        let weight = json_array(line, "weight").unwrap();
+        pairs.push_str(&format!("{{\"wi\":{wi:?},\"wo\":{wo:?}}}\n"));
+        drawn.push((pdf, weight));
+    }
+    let out = clothbake(&["eval", "--fabric", "silk_shot", "--pdf"], &pairs);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    for (line, (pdf, weight)) in text.lines().zip(&drawn) {
+        let value: serde_json::Value = serde_json::from_str(line).unwrap();
+        let eval_pdf = value["pdf"].as_f64().unwrap();
+        let f = parse_f(line);
+        // Both print shortest round-trip decimals of the same f64 computation; `eval` gets
+        // wi back through that decimal form, so allow a few ulps.
+        assert!(
+            (eval_pdf - pdf).abs() <= 1e-12 * pdf,
+            "pdf {eval_pdf} vs {pdf}"
+        );
+        for c in 0..3 {
+            assert!(
+                (weight[c] * pdf - f[c]).abs() <= 1e-12 * f[c].abs().max(1e-300),
+                "weight·pdf {} vs F {}",
+                weight[c] * pdf,
+                f[c]
+            );
+        }
+    }
+}
+
+#[test]
+fn sample_rejects_bad_lines_and_albedo_prints_the_curve() {
+    for (line, message) in [
+        (
+            r#"{"wo":[0,0,1],"u":[0.5,1.0,0.5]}"#,
+            "u[1] = 1 is not in [0, 1)",
+        ),
+        (
+            r#"{"wo":[0,0,1],"u":[-0.1,0.5,0.5]}"#,
+            "u[0] = -0.1 is not in [0, 1)",
+        ),
+        (
+            r#"{"wo":[0,0,0],"u":[0.1,0.5,0.5]}"#,
+            "wo is the zero vector",
+        ),
+        (r#"{"wo":[0,0,1]}"#, "missing field `u`"),
+    ] {
+        let out = clothbake(&["sample", "--fabric", "linen_plain"], &format!("{line}\n"));
+        assert!(!out.status.success(), "{line} accepted");
+        assert!(
+            stderr(&out).contains("input line 1") && stderr(&out).contains(message),
+            "{line}: {}",
+            stderr(&out)
+        );
+    }
+    let out = clothbake(&["albedo", "--fabric", "velvet", "--samples", "64"], "");
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with("velvet: directional albedo"), "{text}");
+    assert_eq!(
+        text.lines()
+            .filter(|l| l.trim_end().ends_with(|c: char| c.is_ascii_digit()))
+            .count(),
+        clothbake::sampling::ALBEDO_ELEVATIONS_DEG.len() + 1,
+        "{text}"
+    );
+    assert!(text.contains("maximum:"), "{text}");
+}
