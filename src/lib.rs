@@ -12,6 +12,9 @@
 //! - [`render`]: cloth rendered with a GPU BRDF (table lookup or direct), headless or into a
 //!   window; the CPU reference of the same view and image error metrics.
 //! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
+//! - [`environment`]: distant environment lighting: equirectangular `.hdr`/`.exr` maps read as
+//!   untrusted input, the built-in studio and white furnace, a prefiltered mip chain and the
+//!   CPU mirror of its GPU sampling.
 //! - [`direction_sets`]: the seeded direction pairs on which errors are measured.
 //! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
 //! - [`report`]: `clothbake report`, speed against error for every fabric (Markdown, JSON,
@@ -22,6 +25,7 @@ pub mod accuracy;
 pub mod bake;
 pub mod bake_job;
 pub mod direction_sets;
+pub mod environment;
 pub mod eval_stream;
 pub mod fabric_file;
 pub mod gpu;
