@@ -14,6 +14,9 @@
 //! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
 //! - [`sampling`]: importance sampling of a fabric: directions with a density close to F,
 //!   and that density (CPU; `shaders/sampling.wgsl` mirrors it).
+//! - [`environment`]: distant environment lighting: equirectangular `.hdr`/`.exr` maps read as
+//!   untrusted input, the built-in studio and white furnace, a prefiltered mip chain and the
+//!   CPU mirror of its GPU sampling.
 //! - [`direction_sets`]: the seeded direction pairs on which errors are measured.
 //! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
 //! - [`report`]: `clothbake report`, speed against error for every fabric (Markdown, JSON,
@@ -24,6 +27,7 @@ pub mod accuracy;
 pub mod bake;
 pub mod bake_job;
 pub mod direction_sets;
+pub mod environment;
 pub mod eval_stream;
 pub mod fabric_file;
 pub mod gpu;
