@@ -6,7 +6,8 @@
 # lookup, direct at N = 8 and 32, and resonant (default nodes 6/5/2), in one run. A shared
 # machine's speed drifts over minutes, so the five renders of a fabric alternate, ROUNDS
 # times (default 3), and each figure is the median of its rounds' medians of FRAMES frames
-# (default 5). Ratios: whole frames, and BRDF work alone (frame − floor).
+# (default 5). Ratios: whole frames, and BRDF work alone (frame − floor). The scene's lights
+# only (--env none): the environment light is measured by scripts/environment-figures.sh.
 # Needs the default tables (clothbake bake). With ALT_TABLES=DIR (tables of another layout,
 # e.g. `clothbake bake --layout split_frame --out DIR`), the lookup from those tables is
 # rendered in the same rounds and reported in three more columns. Prints a Markdown table.
@@ -20,7 +21,7 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 
 median_ms() { # the ms figure of the render command's "median X ms per frame" line
-    "$bin" render --width 1024 --height 1024 --frames "$frames" --out "$out/frame.png" "$@" |
+    "$bin" render --width 1024 --height 1024 --frames "$frames" --out "$out/frame.png" --env none "$@" |
         tee -a "$out/log" | sed -n 's/.*median \([0-9.]*\) ms per frame.*/\1/p'
 }
 

@@ -1,13 +1,16 @@
 // The cloth render pass (src/render/mod.rs): appended to a GpuBrdf's WGSL, which defines
 // `cloth_brdf(wi, wo)` = F(wi, wo) (MODEL.md) in the local cloth frame with its bindings in
-// @group(0). This file's own resources are in @group(1); its names avoid the `cloth_`
-// prefixes the BRDF module reserves.
+// @group(0), and to the fabric sampler's functions (shaders/sampling.wgsl). This file's own
+// resources are in @group(1) (the frame) and @group(2) (the environment light); its names
+// avoid the `cloth_` and `sampling_` prefixes of those modules.
 //
 // Per pixel: the thread frame (t = thread 1 along u, b = n × t, n) from the interpolated
 // vertex frame, re-orthonormalised; wi (to each light) and wo (to the eye) in that frame;
 // radiance L = Σ_lights E·F(wi, wo), with E = colour·irradiance for a directional light and
 // colour·I/d² for a point light (MODEL.md: a distant light of perpendicular irradiance E
-// gives L_o = E·F; F already holds every cosine). No shadows.
+// gives L_o = E·F; F already holds every cosine), plus the environment light
+// ∫ L_env(wi) F(wi, wo) dwi by filtered importance sampling (`render_environment_light`).
+// No shadows.
 //
 // Two-sided cloth: the side facing the viewer is shaded, judged by the interpolated normal
 // (n is flipped when n·wo < 0, so wo.z ≥ 0 always; t is kept, so the flipped frame is still
@@ -30,12 +33,21 @@ struct RenderFrameUniform {
     // x: exposure; y: 1 to encode the display output as sRGB in the shader (UNORM targets),
     // 0 when the target format encodes it (…Srgb formats).
     params: vec4<f32>,
-    // x: number of lights.
+    // x: number of lights; y: environment samples per pixel K (0: no environment light).
     counts: vec4<u32>,
+    // The environment map: x, y: level-0 width and height; z: mip levels.
+    environment: vec4<f32>,
     lights: array<RenderLight, 8>,
 }
 
 @group(1) @binding(0) var<uniform> render_frame: RenderFrameUniform;
+
+// The environment map (equirectangular, +y up, `clothbake::environment`; mip level k is
+// level 0 box-filtered 2^k times by solid angle), its trilinear sampler, and the fabric
+// sampler's data (`clothbake::sampling::Sampler::data`).
+@group(2) @binding(0) var render_environment: texture_2d<f32>;
+@group(2) @binding(1) var render_environment_sampler: sampler;
+@group(2) @binding(2) var<storage, read> sampling_data: array<f32>;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -105,11 +117,65 @@ fn to_local(f: ShadingFrame, w: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(w, f.t), dot(w, f.b), dot(w, f.n));
 }
 
+// Point k of the K-point Hammersley set: ((k + ½)/K, base-2 and base-3 radical inverses of
+// k), as `clothbake::sampling::hammersley`.
+fn render_hammersley(k: u32, count: u32) -> vec3<f32> {
+    var base3 = 0.0;
+    var scale = 1.0 / 3.0;
+    for (var i = k; i > 0u; i = i / 3u) {
+        base3 += f32(i % 3u) * scale;
+        scale /= 3.0;
+    }
+    return vec3<f32>((f32(k) + 0.5) / f32(count), f32(reverseBits(k)) * 2.3283064e-10, base3);
+}
+
+// The equirectangular coordinates of a world direction (+y up; u = 0.5 looks along −z), as
+// `clothbake::environment::equirect_uv`.
+fn render_environment_uv(d: vec3<f32>) -> vec2<f32> {
+    let u = 0.5 + atan2(d.x, -d.z) * (0.5 / 3.14159265);
+    let v = acos(clamp(d.y, -1.0, 1.0)) * (1.0 / 3.14159265);
+    return vec2<f32>(u, v);
+}
+
+// ∫ L_env(wi) F(wi, wo) dwi by filtered importance sampling (Colbert and Křivánek, GPU Gems
+// 3, ch. 20): K directions from the fabric's sampler, one Hammersley set shared by every
+// pixel (the error is a smooth bias, not noise), each weighted by F/pdf and read from the
+// mip level whose texels cover the solid angle the sample stands for, Ωs = 1/(K·pdf):
+// lod = ½·log2(Ωs/Ωp), Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the sample's polar angle
+// θ. Without the original's +1: measured against the CPU reference (README, "Environment
+// light"), +1 blurs cloth's narrow cone-shaped lobes too much, and −1 or −2 alias.
+fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
+    let count = render_frame.counts.y;
+    let size = render_frame.environment;
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < count; k++) {
+        let s = sampling_sample(wo, render_hammersley(k, count));
+        if s.w <= 0.0 {
+            continue;
+        }
+        let world = f.t * s.x + f.b * s.y + f.n * s.z;
+        let sin_theta = sqrt(max(1.0 - world.y * world.y, 1e-8));
+        let texel = (6.2831853 / size.x) * (3.14159265 / size.y) * sin_theta;
+        let lod = clamp(0.5 * log2(1.0 / (f32(count) * s.w * texel)), 0.0, size.z - 1.0);
+        let radiance = textureSampleLevel(
+            render_environment,
+            render_environment_sampler,
+            render_environment_uv(world),
+            lod,
+        ).rgb;
+        sum += radiance * cloth_brdf(s.xyz, wo) / s.w;
+    }
+    return sum / f32(max(count, 1u));
+}
+
 // Outgoing radiance towards the eye (linear RGB).
 fn render_radiance(in: VertexOut) -> vec3<f32> {
     let f = shading_frame(in);
     let wo = to_local(f, normalize(render_frame.eye.xyz - in.world));
     var sum = vec3<f32>(0.0);
+    if wo.z > 0.0 && render_frame.counts.y > 0u {
+        sum = render_environment_light(f, wo);
+    }
     for (var k = 0u; k < render_frame.counts.x; k++) {
         let light = render_frame.lights[k];
         var direction = light.vector.xyz;

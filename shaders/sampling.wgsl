@@ -40,7 +40,8 @@ struct SamplingNodes {
 
 fn sampling_nodes(wo: vec3<f32>) -> SamplingNodes {
     let last = f32(SAMPLING_ELEVATION_NODES - 1u);
-    let x = clamp(sampling_elevation(wo) / SAMPLING_HALF_PI * last, 0.0, last);
+    // Nodes at 90°·(i/(E − 1))^1.5: the node coordinate is (elevation/90°)^(2/3)·(E − 1).
+    let x = clamp(pow(max(sampling_elevation(wo) / SAMPLING_HALF_PI, 0.0), 2.0 / 3.0) * last, 0.0, last);
     let i0 = min(u32(floor(x)), SAMPLING_ELEVATION_NODES - 2u);
     let fx = x - f32(i0);
     let y = sampling_azimuth(wo) / SAMPLING_TAU * f32(SAMPLING_AZIMUTH_NODES);

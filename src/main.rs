@@ -3,13 +3,14 @@
 use clap::{Parser, Subcommand};
 use clothbake::accuracy::measure;
 use clothbake::bake_job::{self, BakeJob, Outcome, ResolutionChoice};
+use clothbake::environment::EnvironmentSource;
 use clothbake::eval_stream::{EvalOutput, SampleOutput, eval_stream, sample_stream};
 use clothbake::fabric_file::FabricSet;
 use clothbake::manifest;
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use clothbake::render;
 use clothbake::sampling::{Sampler, albedo_curve, describe_albedo};
-use clothbake::scene::Scene;
+use clothbake::scene::{MAX_ENVIRONMENT_SAMPLES, Scene};
 use clothbake::table::Layout;
 use clothbake::table_file::read_table;
 use std::path::PathBuf;
@@ -169,9 +170,13 @@ enum Command {
         #[command(flatten)]
         nodes: NodeArgs,
         /// Also render the view on the CPU by direct evaluation: writes STEM-reference.png and
-        /// STEM-error.png and prints the image error.
+        /// STEM-error.png and prints the image error. Under an environment light, F by the
+        /// resonant quadrature and the environment by Monte Carlo (--reference-samples).
         #[arg(long)]
         reference: bool,
+        /// Importance samples per pixel of the reference's environment term.
+        #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+        reference_samples: u32,
     },
     /// Open an interactive window showing the scene's cloth shaded by table lookup (or by the
     /// direct shader: key D; the resonant shader: key G). Keys are listed at start.
@@ -207,16 +212,43 @@ struct SceneArgs {
     /// OBJ mesh with UVs to show instead of the scene's (the camera is aimed at it).
     #[arg(long)]
     mesh: Option<PathBuf>,
+    /// Environment light: `default` (the built-in studio), `uniform` (radiance 1: the white
+    /// furnace), `none`, or an equirectangular .hdr or .exr file (default: the scene's).
+    #[arg(long, value_parser = parse_environment)]
+    env: Option<EnvironmentSource>,
+    /// Filtered importance samples per pixel of the environment light (default: the
+    /// scene's, 64 in the built-in scene).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_ENVIRONMENT_SAMPLES as i64))]
+    env_samples: Option<u32>,
+    /// Switch the scene's lights off (the environment alone).
+    #[arg(long)]
+    no_lights: bool,
 }
 
 impl SceneArgs {
-    /// The scene file's scene, or the built-in default scene.
+    /// The scene file's scene, or the built-in default scene, with the environment and
+    /// lights the options ask for.
     fn load(&self) -> Result<Scene, String> {
-        match &self.scene {
-            Some(path) => Scene::load(path).map_err(|e| e.to_string()),
-            None => Ok(Scene::builtin()),
+        let mut scene = match &self.scene {
+            Some(path) => Scene::load(path).map_err(|e| e.to_string())?,
+            None => Scene::builtin(),
+        };
+        if let Some(source) = &self.env {
+            scene.environment.source = source.clone();
         }
+        if let Some(samples) = self.env_samples {
+            scene.environment.samples = samples;
+        }
+        if self.no_lights {
+            scene.lights.clear();
+        }
+        Ok(scene)
     }
+}
+
+fn parse_environment(word: &str) -> Result<EnvironmentSource, String> {
+    word.parse()
+        .map_err(|e: clothbake::environment::EnvironmentError| e.to_string())
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -532,6 +564,7 @@ fn run(cli: Cli) -> Result<(), String> {
             samples,
             nodes,
             reference,
+            reference_samples,
         } => {
             let nodes = nodes.nodes(shader == RenderShaderArg::Resonant, "--shader resonant")?;
             let shader = match (shader, samples) {
@@ -553,6 +586,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 frames,
                 shader,
                 reference,
+                reference_samples,
                 mesh: scene.mesh,
             };
             render::job::run(&job, &mut |line| println!("{line}")).map(|_| ())

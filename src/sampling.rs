@@ -13,7 +13,8 @@
 //! ## Layout (one place; the WGSL mirrors it)
 //!
 //! - **Nodes over wo.** `wo` is placed on a grid of `ELEVATION_NODES` elevations (node i at
-//!   i·90°/(E − 1), node 0 built at [`GRAZING_NODE_DEG`] because F is 0 at exactly 0°) by
+//!   90°·(i/(E − 1))^1.5, dense towards the horizon where the patch's normalisation changes
+//!   F fastest; node 0 built at [`GRAZING_NODE_DEG`] because F is 0 at exactly 0°) by
 //!   `AZIMUTH_NODES` azimuths (node j at j·360°/A, azimuth measured from thread 1, x,
 //!   towards thread 2, y; periodic). The density for a given `wo` is the bilinear mixture of
 //!   its four surrounding nodes' densities, so it is continuous in `wo` (no seams where a
@@ -43,17 +44,19 @@ use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Elevation nodes over wo (0° to 90°).
-pub const ELEVATION_NODES: usize = 9;
+pub const ELEVATION_NODES: usize = 17;
 /// Azimuth nodes over wo (periodic).
-pub const AZIMUTH_NODES: usize = 16;
+pub const AZIMUTH_NODES: usize = 32;
 /// Elevation bands of a node's density over wi.
 pub const ROWS: usize = 32;
 /// Azimuth sectors of a node's density over wi.
 pub const COLUMNS: usize = 64;
 /// f32 values per node: the row CDF and one column CDF per row.
 pub const NODE_STRIDE: usize = (ROWS + 1) + ROWS * (COLUMNS + 1);
+/// Nodes over wo.
+pub const NODES: usize = ELEVATION_NODES * AZIMUTH_NODES;
 /// The elevation at which node 0 (nominally 0°) is built: F vanishes at exactly 0°.
-pub const GRAZING_NODE_DEG: f64 = 0.5;
+pub const GRAZING_NODE_DEG: f64 = 0.1;
 /// The probability of drawing from the cosine density instead of the table.
 pub const COSINE_SHARE: f64 = 0.1;
 /// Resonant node counts of the evaluation the built-in sampler is built from: the density
@@ -141,7 +144,8 @@ fn invert_cdf(cdf: &[f32], u: f64) -> (usize, f64) {
 
 /// The four nodes around `wo` and their bilinear weights (node index, weight).
 fn node_weights(wo: DVec3) -> [(usize, f64); 4] {
-    let x = (elevation_of(wo) / FRAC_PI_2 * (ELEVATION_NODES - 1) as f64)
+    let x = ((elevation_of(wo) / FRAC_PI_2).max(0.0).powf(2.0 / 3.0)
+        * (ELEVATION_NODES - 1) as f64)
         .clamp(0.0, (ELEVATION_NODES - 1) as f64);
     let i0 = (x.floor() as usize).min(ELEVATION_NODES - 2);
     let fx = x - i0 as f64;
@@ -165,15 +169,22 @@ impl Sampler {
         Self::build(|wi, wo| patch.eval(wi, wo))
     }
 
+    /// The sampler of a baked table's fabric, built from the table's f32 lookup: a tenth of
+    /// the resonant quadrature's cost, and the density follows the F that a renderer using
+    /// the table shades with.
+    pub fn for_table(table: &crate::table::Table) -> Self {
+        Self::build(|wi, wo| table.lookup_f32(wi.as_vec3(), wo.as_vec3()).as_dvec3())
+    }
+
     /// A sampler whose cell probabilities follow `f(wi, wo)` (RGB, the patch transfer; its
     /// mean over the channels is used). Nodes in parallel, each computed alone: the result
     /// does not depend on the thread count.
     pub fn build(f: impl Fn(DVec3, DVec3) -> DVec3 + Sync) -> Self {
-        let nodes: Vec<Vec<f32>> = (0..ELEVATION_NODES * AZIMUTH_NODES)
+        let nodes: Vec<Vec<f32>> = (0..NODES)
             .into_par_iter()
             .map(|n| {
                 let (i, j) = (n / AZIMUTH_NODES, n % AZIMUTH_NODES);
-                let elevation = (i as f64 * 90.0 / (ELEVATION_NODES - 1) as f64)
+                let elevation = (90.0 * (i as f64 / (ELEVATION_NODES - 1) as f64).powf(1.5))
                     .max(GRAZING_NODE_DEG)
                     .to_radians();
                 let wo = direction(elevation, j as f64 * TAU / AZIMUTH_NODES as f64);

@@ -27,6 +27,9 @@
 //! position = [-1.5, 0.8, 1.2]
 //! color = [1.0, 0.85, 0.7]
 //! intensity = 3.0                   # I: irradiance E = I/d² at distance d
+//! [environment]                     # optional: distant light from everywhere
+//! source = "default"                # default (built-in studio) | uniform | none | FILE.hdr/.exr
+//! samples = 64                      # filtered importance samples per pixel, 1 to 1024
 //! [mesh]                            # optional: the cloth (default: draped over a sphere)
 //! kind = "drape"                    # "drape" | "curtain" | "plane" | "obj"
 //! resolution = 160                  # grid quads per side (procedural kinds), [2, 1024]
@@ -35,6 +38,7 @@
 //! path = "cloth.obj"                # kind = "obj" only; relative to the scene file
 //! ```
 
+use crate::environment::EnvironmentSource;
 use crate::table::Layout;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -98,6 +102,8 @@ pub struct Scene {
     pub lights: Vec<Light>,
     #[serde(default)]
     pub mesh: MeshSpec,
+    #[serde(default)]
+    pub environment: EnvironmentSpec,
 }
 
 /// Most lights a scene may have (the shader's fixed light array).
@@ -200,6 +206,41 @@ pub enum MeshKind {
     Obj,
 }
 
+/// Environment samples per pixel of the default scene: 4–7% from the CPU reference under
+/// the studio environment at a quarter of K = 256's cost (2–3%; README, "Environment
+/// light", has the measured front).
+pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 64;
+/// Most environment samples per pixel.
+pub const MAX_ENVIRONMENT_SAMPLES: u32 = 1024;
+
+/// The environment light of a scene.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct EnvironmentSpec {
+    /// `default`, `uniform`, `none` or a file (comes back from [`Scene::load`] resolved
+    /// against the scene's directory).
+    #[serde(deserialize_with = "environment_source")]
+    pub source: EnvironmentSource,
+    /// Filtered importance samples per pixel, 1 to [`MAX_ENVIRONMENT_SAMPLES`].
+    pub samples: u32,
+}
+
+impl Default for EnvironmentSpec {
+    fn default() -> Self {
+        Self {
+            source: EnvironmentSource::Default,
+            samples: DEFAULT_ENVIRONMENT_SAMPLES,
+        }
+    }
+}
+
+fn environment_source<'de, D: serde::Deserializer<'de>>(
+    deserializer: D,
+) -> Result<EnvironmentSource, D::Error> {
+    let word = String::deserialize(deserializer)?;
+    word.parse().map_err(serde::de::Error::custom)
+}
+
 /// The cloth mesh of a scene.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -274,6 +315,9 @@ impl Scene {
         if let Some(file) = &scene.mesh.path {
             scene.mesh.path = Some(base.join(file));
         }
+        if let EnvironmentSource::File(file) = &scene.environment.source {
+            scene.environment.source = EnvironmentSource::File(base.join(file));
+        }
         Ok(scene)
     }
 
@@ -321,6 +365,12 @@ impl Scene {
         // Strictly inside (-90, 90): at the poles the orbit's up vector is undefined.
         check_range("camera.pitch_deg", c.pitch_deg, -89.9, 89.9)?;
         check_range("camera.fov_y_deg", c.fov_y_deg, 1.0, 150.0)?;
+        if !(1..=MAX_ENVIRONMENT_SAMPLES).contains(&self.environment.samples) {
+            return Err(format!(
+                "field 'environment.samples': must be in 1..={MAX_ENVIRONMENT_SAMPLES}, got {}",
+                self.environment.samples
+            ));
+        }
         if self.lights.is_empty() {
             return Err(
                 "field 'lights': names no light (leave [[lights]] out for the default lights)"

@@ -625,3 +625,46 @@ fn filtered_importance_sampling_of_the_studio_approaches_the_reference() {
         }
     }
 }
+
+#[test]
+fn environment_sampler_draws_follow_its_density() {
+    // The studio's brightness distribution (the CPU reference's second technique): each
+    // draw's density is `pdf` at its direction, and the density integrates to 1 over the
+    // sphere: the mean of 1/pdf over draws estimates the sphere's 4π (a standard error of
+    // ~1% at 40,000 draws for this map; bound 3%), and a 1° grid of `pdf` sums to 1.
+    let sampler = clothbake::environment::EnvironmentSampler::new(&Environment::studio());
+    let n = 40_000;
+    let mut inverse_sum = 0.0;
+    for k in 0..n {
+        let u = [
+            (k as f64 + 0.5) / n as f64,
+            ((k as f64) * 0.618_033_988_75).fract(),
+        ];
+        let (direction, pdf) = sampler.sample(u);
+        assert!((direction.length() - 1.0).abs() < 1e-9);
+        assert!((sampler.pdf(direction) - pdf).abs() <= 1e-9 * pdf);
+        inverse_sum += 1.0 / pdf;
+    }
+    let sphere = inverse_sum / n as f64;
+    assert!(
+        (sphere / (4.0 * PI) - 1.0).abs() < 0.03,
+        "∫1 dω estimated {sphere}"
+    );
+    let (rows, columns) = (180, 360);
+    let mut integral = 0.0;
+    for r in 0..rows {
+        let (t0, t1) = (
+            PI * r as f64 / rows as f64,
+            PI * (r + 1) as f64 / rows as f64,
+        );
+        for c in 0..columns {
+            let uv = DVec2::new(
+                (c as f64 + 0.5) / columns as f64,
+                (r as f64 + 0.5) / rows as f64,
+            );
+            let d = clothbake::environment::equirect_direction(uv);
+            integral += sampler.pdf(d) * (t0.cos() - t1.cos()) * 2.0 * PI / columns as f64;
+        }
+    }
+    assert!((integral - 1.0).abs() < 0.01, "∫pdf = {integral}");
+}

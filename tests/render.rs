@@ -149,7 +149,7 @@ fn assert_render_matches_cpu(
     let gpu = headless.render(context, &settings, 1).unwrap().linear;
     let gbuffer = headless.gbuffer(context, &settings).unwrap();
     let patch = Patch::new(fabric, integration);
-    let cpu = reference::shade(&gbuffer, &settings, &patch);
+    let cpu = reference::shade(&gbuffer, &settings, &patch, None);
     let error = image_error(&gpu, &cpu, settings.exposure).unwrap();
     let name = &fabric.name;
     println!(
@@ -213,9 +213,12 @@ fn constant_shader_render_equals_cpu_shading_with_f_one_over_pi() {
     let mut headless = Headless::new(&context, &mesh(), &brdf, SIDE, SIDE).unwrap();
     let gpu = headless.render(&context, &settings, 1).unwrap().linear;
     let gbuffer = headless.gbuffer(&context, &settings).unwrap();
-    let cpu = reference::shade_with(&gbuffer, &settings, |_, _| {
-        DVec3::splat(std::f64::consts::FRAC_1_PI)
-    });
+    let cpu = reference::shade_with(
+        &gbuffer,
+        &settings,
+        |_, _| DVec3::splat(std::f64::consts::FRAC_1_PI),
+        None,
+    );
     let error = image_error(&gpu, &cpu, settings.exposure).unwrap();
     println!(
         "constant F = 1/π on the GPU against the CPU: relative L2 {:.2e}, {} pixels",
@@ -246,9 +249,9 @@ fn lookup_and_references(
             let gpu = headless.render(context, &settings, 1).unwrap().linear;
             let gbuffer = headless.gbuffer(context, &settings).unwrap();
             let cpu_lookup =
-                reference::shade_with(&gbuffer, &settings, |wi, wo| table.lookup(wi, wo));
+                reference::shade_with(&gbuffer, &settings, |wi, wo| table.lookup(wi, wo), None);
             let patch = Patch::new(&table.fabric, Integration::Direct);
-            let direct = reference::shade(&gbuffer, &settings, &patch);
+            let direct = reference::shade(&gbuffer, &settings, &patch, None);
             (table.fabric.name.clone(), gpu, cpu_lookup, direct)
         })
         .collect()

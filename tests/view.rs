@@ -85,8 +85,8 @@ fn clothbake(args: &[&str]) -> Output {
 }
 
 /// Bakes velvet and linen_plain at a small thread_frame resolution (a fraction of a second)
-/// into `dir` and writes a scene naming both on a coarse drape, so that frames are cheap on
-/// a CPU rasteriser.
+/// into `dir` and writes a scene naming both on a coarse drape, lit by the studio
+/// environment at 4 samples per pixel, so that frames are cheap on a CPU rasteriser.
 fn bake_small_tables(dir: &Path) -> PathBuf {
     let bake = clothbake(&[
         "bake",
@@ -104,7 +104,8 @@ fn bake_small_tables(dir: &Path) -> PathBuf {
     let scene = dir.join("scene.toml");
     std::fs::write(
         &scene,
-        "fabrics = [\"velvet\", \"linen_plain\"]\n[mesh]\nkind = \"drape\"\nresolution = 48\n",
+        "fabrics = [\"velvet\", \"linen_plain\"]\n[mesh]\nkind = \"drape\"\nresolution = 48\n\
+         [environment]\nsamples = 4\n",
     )
     .unwrap();
     scene

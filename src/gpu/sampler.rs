@@ -42,11 +42,21 @@ pub fn sampling_wgsl() -> String {
 impl GpuSampler {
     /// Uploads `sampler`'s data.
     pub fn new(context: &GpuContext, sampler: &Sampler) -> Result<Self, GpuError> {
+        Self::from_data(context, sampler.data())
+    }
+
+    /// A one-value stand-in, for a pipeline's sampler binding that is never read (the render
+    /// pass without an environment light).
+    pub fn placeholder(context: &GpuContext) -> Result<Self, GpuError> {
+        Self::from_data(context, &[0.0])
+    }
+
+    fn from_data(context: &GpuContext, data: &[f32]) -> Result<Self, GpuError> {
         let device = &context.device;
         context.checked(|| {
             let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("fabric sampler"),
-                contents: bytemuck::cast_slice(sampler.data()),
+                contents: bytemuck::cast_slice(data),
                 usage: wgpu::BufferUsages::STORAGE,
             });
             let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

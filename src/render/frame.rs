@@ -1,7 +1,8 @@
 //! What changes from frame to frame ([`FrameSettings`]: camera, lights, exposure,
-//! background) and its packing into the uniform block of shaders/render.wgsl. The packing is
+//! background, environment samples) and its packing into the uniform block of shaders/render.wgsl. The packing is
 //! private to the renderer; only its layout has to match the WGSL.
 
+use super::environment_map::EnvironmentDimensions;
 use super::{Camera, LightSource};
 use crate::scene::{MAX_LIGHTS, Scene};
 use bytemuck::{Pod, Zeroable};
@@ -16,19 +17,26 @@ pub struct FrameSettings {
     pub exposure: f32,
     /// Background display colour (sRGB-encoded values in [0, 1]).
     pub background: [f32; 3],
+    /// Samples per pixel of the environment light (filtered importance sampling, see
+    /// shaders/render.wgsl); 0: no environment light.
+    pub environment_samples: u32,
 }
 
 /// The default background: dark grey.
 pub const BACKGROUND: [f32; 3] = [0.06, 0.06, 0.07];
 
 impl FrameSettings {
-    /// The camera, lights and exposure of a scene.
+    /// The camera, lights, exposure and environment samples of a scene.
     pub fn from_scene(scene: &Scene) -> Self {
         Self {
             camera: Camera::orbit(&scene.camera),
             lights: scene.lights.iter().map(LightSource::from_scene).collect(),
             exposure: scene.exposure as f32,
             background: BACKGROUND,
+            environment_samples: match scene.environment.source {
+                crate::environment::EnvironmentSource::None => 0,
+                _ => scene.environment.samples,
+            },
         }
     }
 }
@@ -49,11 +57,25 @@ pub(super) struct FrameUniform {
     eye: [f32; 4],
     params: [f32; 4],
     counts: [u32; 4],
+    environment: [f32; 4],
     lights: [LightUniform; MAX_LIGHTS],
 }
 
 impl FrameUniform {
-    pub(super) fn new(settings: &FrameSettings, aspect: f32, encode_srgb: bool) -> Self {
+    /// `environment`: the sizes of the environment map in the lighting group, if it holds
+    /// one (without, the frame has no environment light).
+    pub(super) fn new(
+        settings: &FrameSettings,
+        aspect: f32,
+        encode_srgb: bool,
+        environment: Option<EnvironmentDimensions>,
+    ) -> Self {
+        let samples = if environment.is_some() {
+            settings.environment_samples
+        } else {
+            0
+        };
+        let environment = environment.unwrap_or_default();
         let mut lights = [LightUniform::default(); MAX_LIGHTS];
         let count = settings.lights.len().min(MAX_LIGHTS);
         for (slot, light) in lights.iter_mut().zip(&settings.lights) {
@@ -78,7 +100,13 @@ impl FrameUniform {
             view_proj: settings.camera.view_proj(aspect).to_cols_array_2d(),
             eye: settings.camera.eye.extend(1.0).to_array(),
             params: [settings.exposure, encode_srgb as u32 as f32, 0.0, 0.0],
-            counts: [count as u32, 0, 0, 0],
+            counts: [count as u32, samples, 0, 0],
+            environment: [
+                environment[0] as f32,
+                environment[1] as f32,
+                environment[2] as f32,
+                0.0,
+            ],
             lights,
         }
     }

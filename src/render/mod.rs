@@ -16,10 +16,13 @@
 //! interpolated vertex normal and tangent, re-orthonormalised, flipped to the side facing the
 //! viewer (two-sided cloth); wi and wo in that frame; radiance `L = Σ_lights E·F(wi, wo)`
 //! with `E` the light's perpendicular irradiance at the point (directional: colour ×
-//! irradiance; point: colour × I/d²). No shadows, no ambient light.
+//! irradiance; point: colour × I/d²), plus the environment light by filtered importance
+//! sampling ([`GpuEnvironment`], K samples of the fabric's sampler per pixel, each read from
+//! the mip level whose texels match the sample's share of the hemisphere). No shadows.
 //!
 //! The parts of this module, one concern to a file: [`Camera`] (camera.rs), [`LightSource`]
-//! (lights.rs), [`FrameSettings`] and its uniform packing (frame.rs), [`Renderer`] and the
+//! (lights.rs), the environment map and lighting group ([`GpuEnvironment`],
+//! environment_map.rs), [`FrameSettings`] and its uniform packing (frame.rs), [`Renderer`] and the
 //! texture formats (renderer.rs), [`Headless`] and the read-back (headless.rs), frame
 //! timing (timing.rs). Everything public is re-exported here.
 //!
@@ -31,6 +34,7 @@ pub mod mesh;
 pub mod reference;
 
 mod camera;
+mod environment_map;
 mod frame;
 mod headless;
 mod lights;
@@ -38,6 +42,7 @@ mod renderer;
 mod timing;
 
 pub use camera::Camera;
+pub use environment_map::GpuEnvironment;
 pub use frame::{BACKGROUND, FrameSettings};
 pub use headless::{GBuffer, HEADLESS_COLOR_FORMAT, Headless, MAX_IMAGE_SIDE, RenderOutput};
 pub use lights::LightSource;

@@ -4,11 +4,15 @@
 //! read-back, so that the viewer and [`super::Headless`] share it.
 
 use super::FrameSettings;
+use super::environment_map::{
+    EnvironmentDimensions, GpuEnvironment, lighting_group, lighting_layout,
+};
 use super::frame::FrameUniform;
 use super::headless::target;
 use super::image;
 use super::mesh::{Mesh, Vertex};
-use crate::gpu::{GpuBrdf, GpuContext, GpuError};
+use crate::gpu::sampler::sampling_wgsl;
+use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampler};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
@@ -107,6 +111,13 @@ pub struct Renderer {
     index_count: u32,
     brdf_group: wgpu::BindGroup,
     brdf_label: String,
+    lighting_layout: wgpu::BindGroupLayout,
+    /// The environment map and the fabric sampler (@group(2)).
+    lighting_group: wgpu::BindGroup,
+    /// [`GpuEnvironment::dimensions`] of the map in `lighting_group`; `None` until
+    /// [`Renderer::set_environment`] (frames then have no environment light, whatever their
+    /// settings ask).
+    environment: Option<EnvironmentDimensions>,
     /// The current BRDF's pipelines (set by `new`), kept out of the map so that a frame
     /// does not hash the shader source to find them.
     current: Option<Pipelines>,
@@ -134,6 +145,11 @@ impl Renderer {
             });
         }
         let device = &context.device;
+        let black = GpuEnvironment::black(context)?;
+        let placeholder = GpuSampler::placeholder(context)?;
+        let lighting_layout = context.checked(|| lighting_layout(context))?;
+        let lighting_group =
+            context.checked(|| lighting_group(context, &lighting_layout, &black, &placeholder))?;
         let (frame_layout, frame_buffer, frame_group, vertices, indices) =
             context.checked(|| {
                 let frame_layout =
@@ -183,6 +199,9 @@ impl Renderer {
             index_count: mesh.indices.len() as u32,
             brdf_group: brdf.bind_group().clone(),
             brdf_label: String::new(),
+            lighting_layout,
+            lighting_group,
+            environment: None,
             current: None,
             pipelines: HashMap::new(),
             gbuffer_pipeline: None,
@@ -194,7 +213,7 @@ impl Renderer {
     /// Shades with `brdf` from now on (builds its pipeline unless one for the same shader
     /// was built before).
     pub fn set_brdf(&mut self, context: &GpuContext, brdf: &dyn GpuBrdf) -> Result<(), GpuError> {
-        let source = brdf.wgsl() + "\n" + RENDER_WGSL;
+        let source = render_source(&brdf.wgsl());
         if let Some(pipelines) = self.pipelines.get(&source) {
             self.current = Some(pipelines.clone());
         } else {
@@ -206,7 +225,7 @@ impl Renderer {
                     display: self.pipeline(
                         context,
                         &module,
-                        layout,
+                        [layout, Some(&self.lighting_layout)],
                         "fs_display",
                         &[Some(display.clone())],
                     ),
@@ -214,7 +233,7 @@ impl Renderer {
                         self.pipeline(
                             context,
                             &module,
-                            layout,
+                            [layout, Some(&self.lighting_layout)],
                             "fs_display_linear",
                             &[Some(display.clone()), Some(format.into())],
                         )
@@ -229,6 +248,21 @@ impl Renderer {
         Ok(())
     }
 
+    /// Lights the cloth with `environment` from now on, importance-sampled with the fabric's
+    /// `sampler` (the frame's [`FrameSettings::environment_samples`] per pixel; set the
+    /// sampler again when the fabric changes).
+    pub fn set_environment(
+        &mut self,
+        context: &GpuContext,
+        environment: &GpuEnvironment,
+        sampler: &GpuSampler,
+    ) -> Result<(), GpuError> {
+        self.lighting_group = context
+            .checked(|| lighting_group(context, &self.lighting_layout, environment, sampler))?;
+        self.environment = Some(environment.dimensions());
+        Ok(())
+    }
+
     /// The label of the current BRDF ([`GpuBrdf::label`]).
     pub fn brdf_label(&self) -> &str {
         &self.brdf_label
@@ -240,19 +274,21 @@ impl Renderer {
     }
 
     /// The pipeline drawing the mesh with fragment entry point `fragment` of `module` (the
-    /// render WGSL appended to a BRDF's) into `targets`.
+    /// render WGSL appended to a BRDF's) into `targets`; `groups` are the layouts of
+    /// @group(0) (the BRDF's) and @group(2) (lighting), `None` where the entry point reads
+    /// neither.
     fn pipeline(
         &self,
         context: &GpuContext,
         module: &wgpu::ShaderModule,
-        brdf_layout: Option<&wgpu::BindGroupLayout>,
+        groups: [Option<&wgpu::BindGroupLayout>; 2],
         fragment: &str,
         targets: &[Option<wgpu::ColorTargetState>],
     ) -> wgpu::RenderPipeline {
         let device = &context.device;
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("render"),
-            bind_group_layouts: &[brdf_layout, Some(&self.frame_layout)],
+            bind_group_layouts: &[groups[0], Some(&self.frame_layout), groups[1]],
             immediate_size: 0,
         });
         let attributes = wgpu::vertex_attr_array![
@@ -298,7 +334,7 @@ impl Renderer {
 
     fn write_uniforms(&self, queue: &wgpu::Queue, settings: &FrameSettings, size: (u32, u32)) {
         let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
-        let uniform = FrameUniform::new(settings, aspect, self.encode_srgb);
+        let uniform = FrameUniform::new(settings, aspect, self.encode_srgb, self.environment);
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&uniform));
     }
 
@@ -366,6 +402,7 @@ impl Renderer {
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &self.brdf_group, &[]);
         pass.set_bind_group(1, &self.frame_group, &[]);
+        pass.set_bind_group(2, &self.lighting_group, &[]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.index_count, 0, 0..1);
@@ -383,12 +420,12 @@ impl Renderer {
     ) -> Result<(), GpuError> {
         if self.gbuffer_pipeline.is_none() {
             check_gbuffer_support(context)?;
-            let source = STUB_BRDF_WGSL.to_string() + RENDER_WGSL;
+            let source = render_source(STUB_BRDF_WGSL);
             let formats: [Option<wgpu::ColorTargetState>; 3] =
                 std::array::from_fn(|_| Some(GBUFFER_FORMAT.into()));
             let pipeline = context.checked(|| {
                 let module = shader_module(context, &source);
-                self.pipeline(context, &module, None, "fs_gbuffer", &formats)
+                self.pipeline(context, &module, [None, None], "fs_gbuffer", &formats)
             })?;
             self.gbuffer_pipeline = Some(pipeline);
         }
@@ -423,6 +460,12 @@ impl Renderer {
         pass.draw_indexed(0..self.index_count, 0, 0..1);
         Ok(())
     }
+}
+
+/// The render module for a BRDF's WGSL: the BRDF, the fabric sampler's functions, then
+/// shaders/render.wgsl.
+fn render_source(brdf_wgsl: &str) -> String {
+    format!("{brdf_wgsl}\n{}\n{RENDER_WGSL}", sampling_wgsl())
 }
 
 fn shader_module(context: &GpuContext, source: &str) -> wgpu::ShaderModule {

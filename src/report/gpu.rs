@@ -162,7 +162,12 @@ fn measure_on(
 ) -> Result<(Vec<GpuFabric>, String), String> {
     let text = |e: GpuError| e.to_string();
     let scene = Scene::builtin();
-    let settings = FrameSettings::from_scene(&scene);
+    // The shaders are compared on the scene's lights alone: an environment light multiplies
+    // every shader's BRDF work by its sample count (README, "Environment light").
+    let settings = FrameSettings {
+        environment_samples: 0,
+        ..FrameSettings::from_scene(&scene)
+    };
     let mesh = Mesh::from_spec(&scene.mesh).map_err(|e| e.to_string())?;
     let [width, height] = config.gpu_frame;
     let frames = config.gpu_frames.max(1) as u32;
@@ -213,7 +218,7 @@ fn measure_on(
             let (reference, _) = reference.get_or_insert_with(|| {
                 let started = Instant::now();
                 let patch = Patch::new(fabric, Integration::Direct);
-                let image = reference::shade(gbuffer, &settings, &patch);
+                let image = reference::shade(gbuffer, &settings, &patch, None);
                 (image, started.elapsed().as_secs_f64())
             });
             let output = renderer.render(context, &settings, frames).map_err(text)?;

@@ -8,11 +8,15 @@ use super::controls::{
 };
 use super::timer::GpuTimer;
 use super::{Shading, ViewError, ViewSummary};
-use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuTable};
+use crate::environment::Environment;
+use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
 use crate::model::{Fabric, ResonantNodes};
 use crate::render::job::load_table;
 use crate::render::mesh::Mesh;
-use crate::render::{Camera, DEPTH_FORMAT, FrameSettings, FrameTargets, LightSource, Renderer};
+use crate::render::{
+    Camera, DEPTH_FORMAT, FrameSettings, FrameTargets, GpuEnvironment, LightSource, Renderer,
+};
+use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::table_file::TableFile;
 use std::path::PathBuf;
@@ -32,6 +36,8 @@ const TITLE_PERIOD: Duration = Duration::from_millis(250);
 /// What [`super::run`] prepared.
 pub(super) struct Setup {
     pub scene: Scene,
+    /// The scene's environment light (key E switches it off and on).
+    pub environment: Option<Environment>,
     pub mesh: Mesh,
     /// The fabrics Tab and 1–9 move through.
     pub fabrics: Vec<Fabric>,
@@ -96,6 +102,8 @@ struct App {
     stats: FrameStats,
     shading: Shading,
     samples: u32,
+    /// Whether the environment light is on (there is one and key E has not switched it off).
+    environment_on: bool,
     current: usize,
     shift: bool,
     dragging: bool,
@@ -113,6 +121,9 @@ struct FabricGpu {
     direct: Option<(u32, GpuDirect)>,
     /// The resonant shader (default nodes), once asked for.
     resonant: Option<GpuResonant>,
+    /// The fabric's importance sampler (built from its table), once the environment light
+    /// needs it.
+    sampler: Option<GpuSampler>,
 }
 
 /// The window and everything drawn into it.
@@ -123,6 +134,8 @@ struct Graphics {
     config: wgpu::SurfaceConfiguration,
     gpu: GpuContext,
     renderer: Renderer,
+    /// The scene's environment map, uploaded.
+    environment: Option<GpuEnvironment>,
     depth: wgpu::TextureView,
     /// Per fabric of the list, once loaded.
     fabrics: Vec<Option<FabricGpu>>,
@@ -139,6 +152,7 @@ impl App {
             stats: FrameStats::default(),
             shading: Shading::Lookup,
             samples: setup.samples,
+            environment_on: setup.environment.is_some(),
             current: setup.first,
             shift: false,
             dragging: false,
@@ -206,8 +220,15 @@ impl App {
             lookup: GpuTable::new(&gpu, &table.table)?,
             direct: None,
             resonant: None,
+            sampler: None,
         };
-        drop(table);
+        self.first_table = Some(table);
+        let environment = self
+            .setup
+            .environment
+            .as_ref()
+            .map(|map| GpuEnvironment::new(&gpu, map))
+            .transpose()?;
         let renderer = Renderer::new(&gpu, config.format, false, &self.setup.mesh, &first.lookup)?;
         let mut fabrics: Vec<Option<FabricGpu>> = self.setup.fabrics.iter().map(|_| None).collect();
         fabrics[self.current] = Some(first);
@@ -220,6 +241,7 @@ impl App {
             config,
             gpu,
             renderer,
+            environment,
             depth,
             fabrics,
             timer,
@@ -235,18 +257,37 @@ impl App {
         let Some(g) = &mut self.graphics else {
             return Err("no window".into());
         };
+        let mut file = None;
         if g.fabrics[index].is_none() {
-            let file = load_table(&self.setup.tables, &self.setup.fabrics[index])?;
-            let lookup = GpuTable::new(&g.gpu, &file.table).map_err(|e| e.to_string())?;
+            let loaded = load_table(&self.setup.tables, &self.setup.fabrics[index])?;
+            let lookup = GpuTable::new(&g.gpu, &loaded.table).map_err(|e| e.to_string())?;
             g.fabrics[index] = Some(FabricGpu {
                 lookup,
                 direct: None,
                 resonant: None,
+                sampler: None,
             });
+            file = Some(loaded);
         }
         let Some(f) = &mut g.fabrics[index] else {
             return Err("fabric not loaded".into());
         };
+        if let (true, Some(map)) = (self.environment_on, &g.environment) {
+            if f.sampler.is_none() {
+                // The first table stays with the App until its sampler is built here.
+                let file = match file.take().or_else(|| self.first_table.take()) {
+                    Some(file) if file.table.fabric == self.setup.fabrics[index] => file,
+                    _ => load_table(&self.setup.tables, &self.setup.fabrics[index])?,
+                };
+                let sampler = Sampler::for_table(&file.table);
+                f.sampler = Some(GpuSampler::new(&g.gpu, &sampler).map_err(|e| e.to_string())?);
+            }
+            if let Some(sampler) = &f.sampler {
+                g.renderer
+                    .set_environment(&g.gpu, map, sampler)
+                    .map_err(|e| e.to_string())?;
+            }
+        }
         match shading {
             Shading::Lookup => g
                 .renderer
@@ -352,6 +393,18 @@ impl App {
                     println!("clothbake view: direct shader samples N={next}");
                 }
             }
+            Action::ToggleEnvironment => {
+                if self.setup.environment.is_none() {
+                    println!("clothbake view: the scene has no environment light (--env)");
+                } else {
+                    self.environment_on = !self.environment_on;
+                    println!(
+                        "clothbake view: environment light {}",
+                        if self.environment_on { "on" } else { "off" }
+                    );
+                    self.show_or_report(index, shading, samples);
+                }
+            }
             Action::ResetView => {
                 self.orbit.reset();
                 self.light.reset();
@@ -371,6 +424,11 @@ impl App {
                 .collect(),
             exposure: scene.exposure as f32,
             background: crate::render::BACKGROUND,
+            environment_samples: if self.environment_on {
+                scene.environment.samples
+            } else {
+                0
+            },
         }
     }
 
@@ -602,7 +660,7 @@ impl ApplicationHandler for App {
                 graphics.window.request_redraw();
                 let label = graphics.renderer.brdf_label().to_string();
                 self.graphics = Some(graphics);
-                if self.setup.shading != Shading::Lookup {
+                if self.setup.shading != Shading::Lookup || self.environment_on {
                     // Asked for on the command line: failing to build it is an error.
                     if let Err(message) = self.show(self.current, self.setup.shading, self.samples)
                     {

@@ -34,8 +34,8 @@ pub const MAX_SAMPLES: u32 = 1024;
 pub const KEY_HELP: &str = "\
 keys: left-drag orbit, wheel zoom, Tab / Shift+Tab next / previous fabric, 1-9 fabric,
       Left/Right/Up/Down move the light, L spin the light, D lookup / direct shading,
-      G lookup / resonant shading, + / - direct shader samples (x2 / /2), R reset view,
-      Esc or Q quit";
+      G lookup / resonant shading, + / - direct shader samples (x2 / /2), E environment
+      light on / off, R reset view, Esc or Q quit";
 
 /// What a key press asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,6 +56,8 @@ pub enum Action {
     ToggleResonant,
     /// Double (`true`) or halve the direct shader's samples.
     Samples(bool),
+    /// Switch the environment light off or on.
+    ToggleEnvironment,
     ResetView,
 }
 
@@ -94,6 +96,7 @@ pub fn action_for_key(key: &Key, shift: bool) -> Option<Action> {
                 'l' => Some(Action::ToggleLightSpin),
                 'd' => Some(Action::ToggleDirect),
                 'g' => Some(Action::ToggleResonant),
+                'e' => Some(Action::ToggleEnvironment),
                 'r' => Some(Action::ResetView),
                 // `=` is `+` without Shift on US layouts.
                 '+' | '=' => Some(Action::Samples(true)),

@@ -167,8 +167,14 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
         let (centre, radius) = mesh.bounding_sphere();
         scene.camera = framing_camera(&scene.camera, centre.as_dvec3().to_array(), radius as f64);
     }
+    let environment = scene
+        .environment
+        .source
+        .load()
+        .map_err(|e| ViewError::Setup(e.to_string()))?;
     app::run(
         app::Setup {
+            environment,
             scene,
             mesh,
             fabrics,
