@@ -212,10 +212,12 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
                     .map_err(|e| e.to_string())?,
             ),
         };
-        // The fabric's importance sampler: built on the CPU (about a second), uploaded.
-        let sampler = gpu_environment
-            .as_ref()
-            .map(|_| Sampler::for_fabric(fabric));
+        // The fabric's importance sampler, built on the CPU and uploaded: from the table the
+        // lookup shades with (a fraction of a second), else from the resonant quadrature.
+        let sampler = gpu_environment.as_ref().map(|_| match table {
+            Some(file) => Sampler::for_table(&file.table),
+            None => Sampler::for_fabric(fabric),
+        });
         if let (Some(map), Some(sampler)) = (&gpu_environment, &sampler) {
             let gpu_sampler = GpuSampler::new(&context, sampler).map_err(|e| e.to_string())?;
             renderer
