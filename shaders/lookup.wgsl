@@ -2,7 +2,7 @@
 // this file, then its layout's own WGSL file (shaders/<layout>.wgsl, e.g. thread_frame.wgsl,
 // grid4d.wgsl), each mirroring the Rust lookup of src/table/<layout>.rs in f32.
 //
-// `clothbake::gpu::layout::lookup_wgsl` (the text of `GpuTable::wgsl` and of `clothbake wgsl`)
+// `clothbake::table::wgsl::lookup_wgsl` (the text of `GpuTable::wgsl` and of `clothbake wgsl`)
 // specialises them for one table: it prepends a generated block holding everything the
 // table's geometry fixes (fabric constants; the layout's axes, texel counts and frames as
 // literals, from `TableLookup::wgsl_constants` of the layout), then this file, the layout's

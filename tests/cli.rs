@@ -342,3 +342,46 @@ fn sample_rejects_bad_lines_and_albedo_prints_the_curve() {
     );
     assert!(text.contains("maximum:"), "{text}");
 }
+
+#[test]
+fn bad_environments_are_refused_by_name() {
+    // Untrusted environment files: missing, truncated, and an unknown kind; and a sample
+    // count out of range. Each exits non-zero before any rendering, naming what is wrong.
+    let dir = std::env::temp_dir().join(format!("clothbake-cli-env-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let truncated = dir.join("truncated.hdr");
+    std::fs::write(
+        &truncated,
+        b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 64 +X 128\n\x02\x02",
+    )
+    .unwrap();
+    let unknown = dir.join("sky.png");
+    std::fs::write(&unknown, b"not an image").unwrap();
+    let missing = dir.join("missing.exr");
+    for (path, expected) in [
+        (&truncated, "truncated.hdr"),
+        (&unknown, "sky.png"),
+        (&missing, "missing.exr"),
+    ] {
+        let out = clothbake(
+            &[
+                "render",
+                "--out",
+                dir.join("frame.png").to_str().unwrap(),
+                "--env",
+                path.to_str().unwrap(),
+            ],
+            "",
+        );
+        assert!(!out.status.success(), "{} accepted", path.display());
+        assert!(stderr(&out).contains(expected), "{}", stderr(&out));
+        assert!(!dir.join("frame.png").exists());
+    }
+    let out = clothbake(&["render", "--out", "x.png", "--env-samples", "0"], "");
+    assert!(
+        !out.status.success() && stderr(&out).contains("--env-samples"),
+        "{}",
+        stderr(&out)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

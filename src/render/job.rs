@@ -130,7 +130,14 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
         .iter()
         .map(|name| set.require(name).cloned())
         .collect::<Result<_, _>>()?;
-    // Tables first: a missing one is an error before any GPU work.
+    // The environment, then the tables: a bad file or a missing table is an error before
+    // any GPU work.
+    let environment = job
+        .scene
+        .environment
+        .source
+        .load()
+        .map_err(|e| e.to_string())?;
     let tables = match job.shader {
         Shader::Lookup => fabrics
             .iter()
@@ -140,12 +147,6 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             vec![None; fabrics.len()]
         }
     };
-    let environment = job
-        .scene
-        .environment
-        .source
-        .load()
-        .map_err(|e| e.to_string())?;
     let mut settings = FrameSettings::from_scene(&job.scene);
     let mesh = match &job.mesh {
         Some(path) => {
