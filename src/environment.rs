@@ -750,6 +750,8 @@ impl fmt::Display for EnvironmentSource {
 /// distribution needs to find (a light of a few degrees) in 0.5 MiB of CDFs.
 pub const SAMPLER_MAX_WIDTH: u32 = 512;
 
+use crate::sampling::{invert_cdf, write_cdf};
+
 /// Importance sampling of an environment map by its brightness, for multiple importance
 /// sampling with a fabric's sampler in the CPU reference of a render
 /// (`render::reference`), where a small bright light must not be left to chance.
@@ -766,35 +768,6 @@ pub struct EnvironmentSampler {
     width: u32,
     height: u32,
     data: Vec<f32>,
-}
-
-/// `weights`' CDF as f32 into `out` (n + 1 values, 0 first, exactly 1 last; uniform when all
-/// are 0).
-fn write_cdf(weights: &[f64], out: &mut Vec<f32>) {
-    let total: f64 = weights.iter().sum();
-    let n = weights.len();
-    out.push(0.0);
-    let mut sum = 0.0;
-    for (k, w) in weights.iter().enumerate() {
-        sum += w;
-        out.push(if k + 1 == n {
-            1.0
-        } else if total > 0.0 {
-            (sum / total) as f32
-        } else {
-            (k + 1) as f32 / n as f32
-        });
-    }
-}
-
-/// The interval k of `cdf` with cdf[k] ≤ u < cdf[k + 1] (never one of zero probability), and
-/// u rescaled into it.
-fn invert_cdf(cdf: &[f32], u: f64) -> (usize, f64) {
-    let n = cdf.len() - 1;
-    let k = cdf[1..].partition_point(|&c| c as f64 <= u).min(n - 1);
-    let (lo, hi) = (cdf[k] as f64, cdf[k + 1] as f64);
-    let rescaled = if hi > lo { (u - lo) / (hi - lo) } else { 0.5 };
-    (k, rescaled.clamp(0.0, 1.0))
 }
 
 impl EnvironmentSampler {
@@ -819,10 +792,13 @@ impl EnvironmentSampler {
             .chunks_exact(width)
             .map(|r| r.iter().sum())
             .collect();
-        let mut data = Vec::with_capacity(height + 1 + height * (width + 1));
-        write_cdf(&rows, &mut data);
-        for row in weights.chunks_exact(width) {
-            write_cdf(row, &mut data);
+        let mut data = vec![0.0; height + 1 + height * (width + 1)];
+        write_cdf(&rows, &mut data[..height + 1]);
+        for (row, out) in weights
+            .chunks_exact(width)
+            .zip(data[height + 1..].chunks_exact_mut(width + 1))
+        {
+            write_cdf(row, out);
         }
         Self {
             width: level.width(),

@@ -114,7 +114,7 @@ fn elevation_of(w: DVec3) -> f64 {
 
 /// `cdf` (f64 partial sums of non-negative weights, `weights.len() + 1` values) normalised
 /// into `out` as f32, 0 first and exactly 1 last; all-zero weights give the uniform CDF.
-fn write_cdf(weights: &[f64], out: &mut [f32]) {
+pub(crate) fn write_cdf(weights: &[f64], out: &mut [f32]) {
     let total: f64 = weights.iter().sum();
     let n = weights.len();
     let mut sum = 0.0;
@@ -133,7 +133,7 @@ fn write_cdf(weights: &[f64], out: &mut [f32]) {
 /// The interval `k` of `cdf` (n + 1 non-decreasing values from 0 to 1) holding `u` in
 /// [0, 1), cdf[k] ≤ u < cdf[k + 1], and u rescaled to [0, 1) inside it. Intervals of zero
 /// probability are never chosen.
-fn invert_cdf(cdf: &[f32], u: f64) -> (usize, f64) {
+pub(crate) fn invert_cdf(cdf: &[f32], u: f64) -> (usize, f64) {
     let n = cdf.len() - 1;
     // First index in 1..=n whose value exceeds u; cdf[n] = 1 > u bounds it.
     let k = cdf[1..=n].partition_point(|&c| c as f64 <= u).min(n - 1);

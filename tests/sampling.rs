@@ -79,15 +79,8 @@ fn draws_follow_the_density_for_every_fabric() {
                 "{} at {elevation}°: accepted {accepted}, ∫pdf {total}",
                 fabric.name
             );
-            let expected: Vec<f64> = mass.iter().map(|m| m * DRAWS as f64).collect();
-            let result = chi2::chi_square(&observed, &expected);
-            println!(
-                "{:<28} wo {elevation:>4}°/{azimuth:>3}°: χ² {:>8.1} dof {:>4} p {:.3}",
-                fabric.name, result.statistic, result.dof, result.p_value
-            );
-            if result.p_value < threshold {
-                failures.push(format!("{} at {elevation}°: {result:?}", fabric.name));
-            }
+            let label = format!("{:<28} wo {elevation:>4}°/{azimuth:>3}°", fabric.name);
+            failures.extend(chi2::test(&label, &observed, &mass, DRAWS, threshold));
         }
     }
     assert!(

@@ -117,6 +117,25 @@ pub fn chi_square(observed: &[u64], expected: &[f64]) -> ChiSquare {
     }
 }
 
+/// One test of `observed` counts of `draws` draws against the density's `mass` per bin:
+/// prints the statistic under `label`, and returns the failure when the p-value is below
+/// `threshold`.
+pub fn test(
+    label: &str,
+    observed: &[u64],
+    mass: &[f64],
+    draws: usize,
+    threshold: f64,
+) -> Option<String> {
+    let expected: Vec<f64> = mass.iter().map(|m| m * draws as f64).collect();
+    let result = chi_square(observed, &expected);
+    println!(
+        "{label}: χ² {:>8.1} dof {:>4} p {:.3}",
+        result.statistic, result.dof, result.p_value
+    );
+    (result.p_value < threshold).then(|| format!("{label}: {result:?}"))
+}
+
 /// The per-test significance for an overall significance `alpha` over `tests` tests
 /// (Šidák): 1 − (1 − α)^(1/tests).
 pub fn sidak(alpha: f64, tests: usize) -> f64 {
