@@ -807,11 +807,6 @@ impl EnvironmentSampler {
         }
     }
 
-    /// Width and height of the level it samples.
-    pub fn size(&self) -> [u32; 2] {
-        [self.width, self.height]
-    }
-
     fn column_cdf(&self, row: usize) -> &[f32] {
         let w = self.width as usize + 1;
         let start = self.height as usize + 1 + row * w;
