@@ -8,12 +8,14 @@
 #   adapter without a GPU; installing it also upgrades the Mesa packages already present,
 #   which must match;
 # - Xvfb, an X server without a display, for the `clothbake view` window test, and the X
-#   client libraries winit loads at run time (it links none of them).
+#   client libraries winit loads at run time (it links none of them);
+# - glslang-tools (Khronos' glslangValidator), which the tests use to compile the GLSL and
+#   HLSL translations of the lookup (`clothbake wgsl --lang`).
 # Packages already installed are left alone, so a second run costs nothing.
 set -euo pipefail
 
 packages=(mesa-vulkan-drivers libvulkan1 xvfb xauth ca-certificates curl
-    libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0)
+    libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 glslang-tools)
 missing=()
 for package in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||

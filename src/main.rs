@@ -12,6 +12,7 @@ use clothbake::render;
 use clothbake::sampling::{Sampler, albedo_curve, describe_albedo};
 use clothbake::scene::{MAX_ENVIRONMENT_SAMPLES, Scene};
 use clothbake::table::Layout;
+use clothbake::table::shader_language::{ShaderLanguage, lookup_shader};
 use clothbake::table_file::read_table;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -126,11 +127,15 @@ enum Command {
         #[arg(long, default_value_t = 20000, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
         pairs: u32,
     },
-    /// Print the WGSL lookup specialised for a table (`fn cloth_brdf(wi, wo)` and its
-    /// bindings, see src/gpu/table.rs), to use the table in another engine.
+    /// Print the lookup specialised for a table (`fn cloth_brdf(wi, wo)` and its bindings,
+    /// see src/gpu/table.rs), to use the table in another engine: WGSL, or GLSL, HLSL or
+    /// MSL translated by naga together with a compute kernel over pairs.
     Wgsl {
         /// The table (EXR).
         table: PathBuf,
+        /// Shading language: wgsl, glsl (4.50 core), hlsl (shader model 5.1) or msl (2.4).
+        #[arg(long, default_value = "wgsl")]
+        lang: ShaderLanguage,
     },
     /// Measure speed against error for every fabric (tables of each layout over a range of
     /// resolutions, paper mode at N = 1..64, bake times) and write REPORT.md, report.json
@@ -630,9 +635,9 @@ fn run(cli: Cli) -> Result<(), String> {
             );
             Ok(())
         }
-        Command::Wgsl { table } => {
+        Command::Wgsl { table, lang } => {
             let file = read_table(&table).map_err(|e| e.to_string())?;
-            print!("{}", clothbake::table::wgsl::lookup_wgsl(&file.table));
+            print!("{}", lookup_shader(&file.table, lang)?);
             Ok(())
         }
         Command::Check { table, pairs } => {

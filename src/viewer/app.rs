@@ -95,7 +95,8 @@ fn os_message(error: &dyn std::fmt::Display) -> String {
 
 struct App {
     setup: Setup,
-    /// The first fabric's table, until the window's device has it.
+    /// The first fabric's table, until the window's device has it and, with an environment
+    /// light, until its sampler is built from it.
     first_table: Option<TableFile>,
     orbit: OrbitControl,
     light: LightControl,
