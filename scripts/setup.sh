@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what clothbake needs on a fresh Debian machine, then runs the given command:
 #   scripts/setup.sh cargo run --release -- bake
-#   scripts/setup.sh cargo test --release --locked
+#   scripts/setup.sh scripts/test.sh
 #
 # - Rust (rustup, minimal profile) when cargo is missing;
 # - Mesa's lavapipe Vulkan driver (mesa-vulkan-drivers, libvulkan1) so that wgpu finds an

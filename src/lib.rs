@@ -1,6 +1,9 @@
 //! clothbake: the Sadeghi et al. 2013 microcylinder cloth model, evaluated directly and
 //! baked into lookup tables for real-time shading.
 //!
+//! [`gpu`], [`render`], [`report`] and [`viewer`] (and wgpu) come with the default cargo
+//! feature `runtime`; without it the crate is the core, for an engine with its own wgpu.
+//!
 //! - [`model`]: the physics of MODEL.md, pure maths.
 //! - [`table`]: table layouts and the lookup that GPU shaders mirror.
 //! - [`bake`]: integrates the model into a table (rayon); [`bake_job`]: the `bake` command's
@@ -30,13 +33,17 @@ pub mod direction_sets;
 pub mod environment;
 pub mod eval_stream;
 pub mod fabric_file;
+#[cfg(feature = "runtime")]
 pub mod gpu;
 pub mod manifest;
 pub mod model;
+#[cfg(feature = "runtime")]
 pub mod render;
+#[cfg(feature = "runtime")]
 pub mod report;
 pub mod sampling;
 pub mod scene;
 pub mod table;
 pub mod table_file;
+#[cfg(feature = "runtime")]
 pub mod viewer;

@@ -3,14 +3,18 @@
 use clap::{Parser, Subcommand};
 use clothbake::accuracy::measure;
 use clothbake::bake_job::{self, BakeJob, Outcome, ResolutionChoice};
+#[cfg(feature = "runtime")]
 use clothbake::environment::EnvironmentSource;
 use clothbake::eval_stream::{EvalOutput, SampleOutput, eval_stream, sample_stream};
 use clothbake::fabric_file::FabricSet;
 use clothbake::manifest;
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
+#[cfg(feature = "runtime")]
 use clothbake::render;
 use clothbake::sampling::{Sampler, albedo_curve, describe_albedo};
-use clothbake::scene::{MAX_ENVIRONMENT_SAMPLES, Scene};
+#[cfg(feature = "runtime")]
+use clothbake::scene::MAX_ENVIRONMENT_SAMPLES;
+use clothbake::scene::Scene;
 use clothbake::table::Layout;
 use clothbake::table::shader_language::{ShaderLanguage, lookup_shader};
 use clothbake::table_file::read_table;
@@ -137,6 +141,7 @@ enum Command {
         #[arg(long, default_value = "wgsl")]
         lang: ShaderLanguage,
     },
+    #[cfg(feature = "runtime")]
     /// Measure speed against error for every fabric (tables of each layout over a range of
     /// resolutions, paper mode at N = 1..64, bake times) and write REPORT.md, report.json
     /// and PNG plots.
@@ -148,6 +153,7 @@ enum Command {
         #[arg(long, default_value = "report")]
         out: PathBuf,
     },
+    #[cfg(feature = "runtime")]
     /// Render the scene's cloth headless to PNG by table lookup (or the direct shader), print
     /// the adapter and the median GPU time per frame; with --reference compare with the CPU.
     Render {
@@ -183,6 +189,7 @@ enum Command {
         #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
         reference_samples: u32,
     },
+    #[cfg(feature = "runtime")]
     /// Open an interactive window showing the scene's cloth shaded by table lookup (or by the
     /// direct shader: key D; the resonant shader: key G). Keys are listed at start.
     View {
@@ -206,6 +213,7 @@ enum Command {
 }
 
 /// What `render` and `view` show: a scene, its tables and optionally a user's mesh.
+#[cfg(feature = "runtime")]
 #[derive(clap::Args)]
 struct SceneArgs {
     /// Scene file (TOML): fabrics, camera, lights, mesh (default: tables/scene.toml's).
@@ -230,6 +238,7 @@ struct SceneArgs {
     no_lights: bool,
 }
 
+#[cfg(feature = "runtime")]
 impl SceneArgs {
     /// The scene file's scene, or the built-in default scene, with the environment and
     /// lights the options ask for.
@@ -251,11 +260,13 @@ impl SceneArgs {
     }
 }
 
+#[cfg(feature = "runtime")]
 fn parse_environment(word: &str) -> Result<EnvironmentSource, String> {
     word.parse()
         .map_err(|e: clothbake::environment::EnvironmentError| e.to_string())
 }
 
+#[cfg(feature = "runtime")]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum ShaderArg {
     Lookup,
@@ -263,6 +274,7 @@ enum ShaderArg {
     Resonant,
 }
 
+#[cfg(feature = "runtime")]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum RenderShaderArg {
     /// Table lookup from the baked tables.
@@ -339,7 +351,7 @@ fn integration_rule(
         }
         IntegrationArg::Direct => Ok(Integration::Direct),
         IntegrationArg::Paper => Ok(Integration::Paper(
-            samples.unwrap_or(clothbake::gpu::direct::DEFAULT_SAMPLES),
+            samples.unwrap_or(clothbake::model::curve::DEFAULT_PAPER_SAMPLES),
         )),
         IntegrationArg::Resonant if samples.is_some() => {
             Err("--samples applies to paper mode, not --integration resonant".into())
@@ -558,6 +570,7 @@ fn run(cli: Cli) -> Result<(), String> {
             pool.install(|| bake_job::run(&job, &progress, &mut report))
                 .map_err(|e| e.to_string())
         }
+        #[cfg(feature = "runtime")]
         Command::Render {
             scene,
             fabric,
@@ -596,6 +609,7 @@ fn run(cli: Cli) -> Result<(), String> {
             };
             render::job::run(&job, &mut |line| println!("{line}")).map(|_| ())
         }
+        #[cfg(feature = "runtime")]
         Command::View {
             scene,
             fabric,
@@ -615,6 +629,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 ShaderArg::Resonant => clothbake::viewer::Shading::Resonant,
             },
         }),
+        #[cfg(feature = "runtime")]
         Command::Report { quick, out } => {
             let fabrics = FabricSet::builtin().fabrics().to_vec();
             let config = if quick {
@@ -699,6 +714,7 @@ fn brdf_of(
 }
 
 /// `clothbake view`: runs the viewer, then reports the frames drawn and their median time.
+#[cfg(feature = "runtime")]
 fn view(options: clothbake::viewer::ViewOptions) -> Result<(), String> {
     let summary = clothbake::viewer::run(options).map_err(|e| e.to_string())?;
     let ms = |v: Option<f64>| v.map_or_else(|| "n/a".to_string(), |v| format!("{v:.2} ms"));

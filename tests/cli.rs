@@ -343,6 +343,7 @@ fn sample_rejects_bad_lines_and_albedo_prints_the_curve() {
     assert!(text.contains("maximum:"), "{text}");
 }
 
+#[cfg(feature = "runtime")]
 #[test]
 fn bad_environments_are_refused_by_name() {
     // Untrusted environment files: missing, truncated, and an unknown kind; and a sample

@@ -35,6 +35,7 @@
 //! |F| > 1e-4 is 7.1e-5 (satin highlights, N = 1; R = 5.1e-4 there), the largest absolute
 //! difference where |F| ≤ 1e-4 is 4.3e-9, and the largest diff/bound over all sets is 0.2
 //! (velvet, R = 2.2e-4).
+#![cfg(feature = "runtime")] // the wgpu runtime: not in `--no-default-features` builds
 
 mod common;
 use common::*;

@@ -42,6 +42,7 @@
 //! The bound per pair and channel is that propagated error plus 1e-5·|F| +
 //! 1e-6. The test asserts |GPU − CPU| ≤ bound everywhere, and prints the largest absolute
 //! and relative differences and the largest ratio difference/bound.
+#![cfg(feature = "runtime")] // the wgpu runtime: not in `--no-default-features` builds
 
 mod common;
 use common::*;

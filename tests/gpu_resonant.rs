@@ -40,6 +40,7 @@
 //! 1.5e-4 – 1.5e-3 per fabric and set (silk_shot highlight the largest), the resonant rule's own quadrature error (the GPU adds ~1e-5 to
 //! it); the test asserts < 0.3%, the 0.25% target of the CPU rule plus margin for other
 //! pair seeds.
+#![cfg(feature = "runtime")] // the wgpu runtime: not in `--no-default-features` builds
 
 mod common;
 use common::*;

@@ -4,6 +4,7 @@
 //!
 //! Needs a wgpu adapter; without a GPU, Mesa's lavapipe (`apt-get install -y
 //! mesa-vulkan-drivers libvulkan1`). No adapter is a failure, not a skip.
+#![cfg(feature = "runtime")] // the wgpu runtime: not in `--no-default-features` builds
 
 #[path = "common/chi2.rs"]
 mod chi2;

@@ -11,6 +11,7 @@
 //! the renderer changes. To regenerate them (and say so in the commit):
 //! `CLOTHBAKE_UPDATE_REFERENCE=1 cargo test --release --test render -- --nocapture`; the
 //! adapter that made them is recorded in tests/data/render/DEVICE.
+#![cfg(feature = "runtime")] // the wgpu runtime: not in `--no-default-features` builds
 
 mod common;
 use common::*;

@@ -1,6 +1,7 @@
 //! The report on a tiny configuration: every file is written, report.json has the structure
 //! the report documents with finite figures, and the plots are valid PNGs with drawn curves.
 //! No timing is asserted (the machine's speed is not under test).
+#![cfg(feature = "runtime")] // the wgpu runtime: not in `--no-default-features` builds
 
 use clothbake::fabric_file::FabricSet;
 use clothbake::model::ResonantNodes;

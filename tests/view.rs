@@ -2,6 +2,7 @@
 //! wgpu then presents through Mesa's lavapipe on machines without a GPU) it opens its window,
 //! draws `--frames N` frames and exits 0; without tables or without a display it fails with
 //! a message that says what is missing.
+#![cfg(feature = "runtime")] // the wgpu runtime: not in `--no-default-features` builds
 
 mod common;
 use common::*;

@@ -18,7 +18,7 @@ pub const MAX_SAMPLES: u32 = 1024;
 
 /// Tangent samples per thread of the direct shader when none are asked for: N = 32, the
 /// comparison point of the runtime's cost and error figures.
-pub const DEFAULT_SAMPLES: u32 = 32;
+pub const DEFAULT_SAMPLES: u32 = crate::model::curve::DEFAULT_PAPER_SAMPLES;
 
 /// One thread family as `ClothDirectThread` of direct.wgsl reads it.
 #[repr(C)]

@@ -84,6 +84,10 @@ pub enum Integration {
     Baking,
 }
 
+/// Paper mode's tangent samples per thread when none are given (`eval --integration paper`,
+/// the direct shader).
+pub const DEFAULT_PAPER_SAMPLES: u32 = 32;
+
 /// Samples per standard deviation of the narrowest lobe in the baking rule.
 pub const BAKING_SAMPLES_PER_SIGMA: f64 = 6.0;
 /// Coarsest α spacing of the baking rule, in degrees.

@@ -152,7 +152,6 @@ mod tests {
 
     #[test]
     fn generated_lookup_is_valid_wgsl_for_every_layout_and_builtin_fabric() {
-        use wgpu::naga;
         for fabric in crate::fabric_file::FabricSet::builtin().fabrics() {
             for &layout in Layout::ALL {
                 let table = empty_table(fabric, layout);

@@ -4,14 +4,18 @@
 
 use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::fabric_file::FabricSet;
+#[cfg(feature = "runtime")]
 use clothbake::gpu::{GpuBrdf, GpuContext, evaluate_pairs};
-use clothbake::model::{Fabric, Patch, Thread};
+#[cfg(feature = "runtime")]
+use clothbake::model::Patch;
+use clothbake::model::{Fabric, Thread};
 use glam::{DVec3, Vec3};
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
 /// A device on whatever adapter wgpu finds, which the test prints; a test that needs one
 /// fails without it (CI installs lavapipe through scripts/setup.sh).
+#[cfg(feature = "runtime")]
 pub fn gpu_context() -> GpuContext {
     match GpuContext::new() {
         Ok(context) => {
@@ -152,6 +156,7 @@ pub struct GpuCpuStats {
     pub worst: String,
 }
 
+#[cfg(feature = "runtime")]
 /// Evaluates `pairs` (named by `names`) with `brdf` on the device and with `patch` on the CPU
 /// (in f64, on the same f32 directions) and compares them pair by pair and channel by
 /// channel: each GPU value must be finite, ≥ 0 and within R·|F| + A of the CPU's, where
