@@ -24,16 +24,16 @@
 //!   bands of equal angle (row r spans elevations r·90°/R to (r + 1)·90°/R, so the bands near
 //!   the normal are not a single cap as equal-area bands would be) by `COLUMNS` azimuth
 //!   sectors. A cell's probability is proportional to its integral of the mean RGB of F,
-//!   estimated from two points on the cell's diagonal; inside a cell wi is uniform in solid angle
-//!   (uniform in z = sin(elevation) and in azimuth), so the cell's density is its probability
-//!   over its solid angle (z_{r+1} − z_r)·2π/C.
+//!   estimated from two points on the cell's diagonal; inside a cell wi is uniform in solid
+//!   angle (uniform in z = sin(elevation) and in azimuth), so the cell's density is its
+//!   probability over its solid angle (z_{r+1} − z_r)·2π/C.
 //! - **Data.** Per node `n = i·A + j`, `NODE_STRIDE` f32: the marginal CDF over rows
 //!   (R + 1 values, 0 first, exactly 1 last), then per row the conditional CDF over columns
 //!   (C + 1 values each). Probabilities are differences of stored neighbours, in sampling and
 //!   in the pdf alike, so the f32 rounding of the CDFs cannot make them disagree.
 //! - **A cosine share.** With probability [`COSINE_SHARE`] wi is drawn from the cosine
 //!   density cos θ/π instead: every direction above the horizon keeps a density of at least
-//!   COSINE_SHARE·cos θ/π, so a lobe the 2 × 2 points missed costs variance, never bias.
+//!   COSINE_SHARE·cos θ/π, so a lobe the cell's two points missed costs variance, never bias.
 //!
 //! The three uniform numbers: u3 picks cosine or table, then (rescaled) the node; u1 the row
 //! and then z inside it; u2 the column and then the azimuth inside it.
