@@ -30,7 +30,7 @@ pub struct GpuTable {
 }
 
 impl GpuTable {
-    /// Uploads `table` (see [`layout`] for the textures) and builds its bind group.
+    /// Uploads `table` (its layout's `TableLookup::textures`) and builds its bind group.
     pub fn new(context: &GpuContext, table: &Table) -> Result<Self, GpuError> {
         context.checked(|| Self::create(context, table))?
     }

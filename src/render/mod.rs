@@ -6,7 +6,8 @@
 //!   linear-radiance target. Reusable by an interactive viewer.
 //! - [`Headless`]: offscreen targets and read-back around a [`Renderer`]: linear radiance,
 //!   8-bit display image, GPU time per frame, and the G-buffer of the CPU reference.
-//! - [`reference`]: the same view shaded on the CPU by direct evaluation.
+//! - [`mod@reference`]: the same view shaded on the CPU by direct evaluation (and the
+//!   environment light by multiple importance sampling).
 //! - [`job`]: the `render` command: every fabric of a scene to PNG, timed, optionally
 //!   against the CPU reference.
 //! - [`image`]: tone mapping, image error metrics, heat maps, PNG/EXR files.

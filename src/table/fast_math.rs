@@ -22,7 +22,7 @@ fn atan_unit(x: f32) -> f32 {
     x * (ATAN[0] + x2 * (ATAN[1] + x2 * (ATAN[2] + x2 * (ATAN[3] + x2 * (ATAN[4] + x2 * ATAN[5])))))
 }
 
-/// `y.atan2(x)` within 2e-5 rad ([`atan_unit`] after reduction to |ratio| ≤ 1); 0 at the
+/// `y.atan2(x)` within 2e-5 rad (`atan_unit` after reduction to |ratio| ≤ 1); 0 at the
 /// origin. Branch-free: the reductions are selects, so the compiler can interleave
 /// several calls.
 #[inline(always)]

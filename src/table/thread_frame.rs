@@ -730,7 +730,7 @@ fn bilinear(plane: &Plane, axis: Axis, x: f64, y: f64) -> f64 {
 
 /// The stored channels of every texel of one thread's 4D table, flattened in plane order:
 /// `ratios(wi, wo, θd')` at each texel's direction pair and θd' (NaN where undefined), then
-/// the NaN texels filled from their neighbours ([`fill_undefined`]). Rows in parallel,
+/// the NaN texels filled from their neighbours (`fill_undefined`). Rows in parallel,
 /// each texel a pure function of its coordinates, so the result is the same for any
 /// thread count.
 pub fn bake_thread_plane(
