@@ -84,16 +84,23 @@ fn sampling_column_base(node: u32, r: u32) -> u32 {
     return node * SAMPLING_NODE_STRIDE + SAMPLING_ROWS + 1u + r * (SAMPLING_COLUMNS + 1u);
 }
 
-// One node's density at wi (wi.z > 0).
-fn sampling_node_pdf(node: u32, wi: vec3<f32>) -> f32 {
+// The density at wi (wi.z > 0) of the mixture of `nodes` (one wo's bilinear weights): wi's
+// cell and its solid angle are the same in every node, so they are found once.
+fn sampling_mixture_pdf(nodes: SamplingNodes, wi: vec3<f32>) -> f32 {
     let r = min(u32(sampling_elevation(wi) / SAMPLING_HALF_PI * f32(SAMPLING_ROWS)), SAMPLING_ROWS - 1u);
     let c = min(u32(sampling_azimuth(wi) / SAMPLING_TAU * f32(SAMPLING_COLUMNS)), SAMPLING_COLUMNS - 1u);
-    let rows = node * SAMPLING_NODE_STRIDE;
-    let columns = sampling_column_base(node, r);
-    let p = (sampling_data[rows + r + 1u] - sampling_data[rows + r])
-        * (sampling_data[columns + c + 1u] - sampling_data[columns + c]);
+    var table = 0.0;
+    for (var k = 0u; k < 4u; k++) {
+        if nodes.weight[k] > 0.0 {
+            let rows = nodes.index[k] * SAMPLING_NODE_STRIDE;
+            let columns = sampling_column_base(nodes.index[k], r);
+            table += nodes.weight[k]
+                * (sampling_data[rows + r + 1u] - sampling_data[rows + r])
+                * (sampling_data[columns + c + 1u] - sampling_data[columns + c]);
+        }
+    }
     let solid_angle = (sampling_row_z(r + 1u) - sampling_row_z(r)) * (SAMPLING_TAU / f32(SAMPLING_COLUMNS));
-    return p / solid_angle;
+    return SAMPLING_COSINE_SHARE * wi.z / SAMPLING_PI + (1.0 - SAMPLING_COSINE_SHARE) * table / solid_angle;
 }
 
 // pdf(wi | wo) per unit solid angle; 0 unless both are above the horizon.
@@ -101,14 +108,7 @@ fn sampling_pdf(wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return 0.0;
     }
-    let nodes = sampling_nodes(wo);
-    var table = 0.0;
-    for (var k = 0u; k < 4u; k++) {
-        if nodes.weight[k] > 0.0 {
-            table += nodes.weight[k] * sampling_node_pdf(nodes.index[k], wi);
-        }
-    }
-    return SAMPLING_COSINE_SHARE * wi.z / SAMPLING_PI + (1.0 - SAMPLING_COSINE_SHARE) * table;
+    return sampling_mixture_pdf(sampling_nodes(wo), wi);
 }
 
 // A direction for wo from three uniform numbers in [0, 1): xyz = wi, w = pdf(wi | wo); w = 0
@@ -117,12 +117,12 @@ fn sampling_sample(wo: vec3<f32>, u: vec3<f32>) -> vec4<f32> {
     if wo.z <= 0.0 {
         return vec4<f32>(0.0);
     }
+    let nodes = sampling_nodes(wo);
     var wi: vec3<f32>;
     if u.z < SAMPLING_COSINE_SHARE {
         wi = sampling_direction_at_z(sqrt(1.0 - u.x), u.y * SAMPLING_TAU);
     } else {
         var pick = (u.z - SAMPLING_COSINE_SHARE) / (1.0 - SAMPLING_COSINE_SHARE);
-        let nodes = sampling_nodes(wo);
         var chosen = nodes.index.x;
         for (var k = 0u; k < 4u; k++) {
             if nodes.weight[k] > 0.0 {
@@ -139,8 +139,11 @@ fn sampling_sample(wo: vec3<f32>, u: vec3<f32>) -> vec4<f32> {
         let z = z0 + row.rescaled * (sampling_row_z(row.index + 1u) - z0);
         wi = sampling_direction_at_z(z, (f32(column.index) + column.rescaled) * (SAMPLING_TAU / f32(SAMPLING_COLUMNS)));
     }
-    let pdf = sampling_pdf(wo, wi);
-    if wi.z <= 0.0 || pdf <= 0.0 {
+    if wi.z <= 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let pdf = sampling_mixture_pdf(nodes, wi);
+    if pdf <= 0.0 {
         return vec4<f32>(0.0);
     }
     return vec4<f32>(wi, pdf);

@@ -173,7 +173,7 @@ impl Sampler {
     /// the resonant quadrature's cost, and the density follows the F that a renderer using
     /// the table shades with.
     pub fn for_table(table: &crate::table::Table) -> Self {
-        Self::build(|wi, wo| table.lookup_f32(wi.as_vec3(), wo.as_vec3()).as_dvec3())
+        Self::build(|wi, wo| crate::accuracy::lookup_f32(table, wi, wo))
     }
 
     /// A sampler whose cell probabilities follow `f(wi, wo)` (RGB, the patch transfer; its
@@ -247,15 +247,26 @@ impl Sampler {
         &node[start..start + COLUMNS + 1]
     }
 
-    /// One node's density at `wi` (w.z > 0).
-    fn node_pdf(&self, n: usize, wi: DVec3) -> f64 {
+    /// The probability of cell (`r`, `c`) in node `n`.
+    fn cell_probability(&self, n: usize, r: usize, c: usize) -> f64 {
         let node = self.node(n);
-        let r = ((elevation_of(wi) / FRAC_PI_2 * ROWS as f64) as usize).min(ROWS - 1);
-        let c = ((azimuth_of(wi) / TAU * COLUMNS as f64) as usize).min(COLUMNS - 1);
         let rows = Self::row_cdf(node);
         let columns = Self::column_cdf(node, r);
-        let p = (rows[r + 1] as f64 - rows[r] as f64) * (columns[c + 1] as f64 - columns[c] as f64);
-        p / ((row_z(r + 1) - row_z(r)) * (TAU / COLUMNS as f64))
+        (rows[r + 1] as f64 - rows[r] as f64) * (columns[c + 1] as f64 - columns[c] as f64)
+    }
+
+    /// The density at `wi` (w.z > 0) of the mixture of `nodes` (one wo's bilinear weights):
+    /// wi's cell and its solid angle are the same in every node, so they are found once.
+    fn mixture_pdf(&self, nodes: &[(usize, f64); 4], wi: DVec3) -> f64 {
+        let r = ((elevation_of(wi) / FRAC_PI_2 * ROWS as f64) as usize).min(ROWS - 1);
+        let c = ((azimuth_of(wi) / TAU * COLUMNS as f64) as usize).min(COLUMNS - 1);
+        let solid_angle = (row_z(r + 1) - row_z(r)) * (TAU / COLUMNS as f64);
+        let table: f64 = nodes
+            .iter()
+            .filter(|&&(_, w)| w > 0.0)
+            .map(|&(n, w)| w * self.cell_probability(n, r, c))
+            .sum();
+        COSINE_SHARE * wi.z / PI + (1.0 - COSINE_SHARE) * table / solid_angle
     }
 
     /// `pdf(wi | wo)` per unit solid angle, as [`Sampler::sample`] draws it; 0 when either
@@ -264,12 +275,7 @@ impl Sampler {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
-        let table: f64 = node_weights(wo)
-            .iter()
-            .filter(|&&(_, w)| w > 0.0)
-            .map(|&(n, w)| w * self.node_pdf(n, wi))
-            .sum();
-        COSINE_SHARE * wi.z / PI + (1.0 - COSINE_SHARE) * table
+        self.mixture_pdf(&node_weights(wo), wi)
     }
 
     /// A direction drawn for unit `wo` from three uniform numbers in [0, 1), and its density;
@@ -278,12 +284,12 @@ impl Sampler {
         if wo.z <= 0.0 {
             return None;
         }
+        let weights = node_weights(wo);
         let wi = if u[2] < COSINE_SHARE {
             // Cosine density: z² uniform (Malley's method in z and azimuth).
             direction_at_z((1.0 - u[0]).sqrt(), u[1] * TAU)
         } else {
             let mut pick = (u[2] - COSINE_SHARE) / (1.0 - COSINE_SHARE);
-            let weights = node_weights(wo);
             let mut chosen = weights[0].0;
             for &(n, w) in &weights {
                 if w > 0.0 {
@@ -300,8 +306,11 @@ impl Sampler {
             let z = row_z(r) + ur * (row_z(r + 1) - row_z(r));
             direction_at_z(z, (c as f64 + uc) * TAU / COLUMNS as f64)
         };
-        let pdf = self.pdf(wo, wi);
-        (wi.z > 0.0 && pdf > 0.0).then_some(Sample { wi, pdf })
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let pdf = self.mixture_pdf(&weights, wi);
+        (pdf > 0.0).then_some(Sample { wi, pdf })
     }
 
     /// The WGSL constants `shaders/sampling.wgsl` expects (the layout's sizes).

@@ -10,6 +10,7 @@
 mod common;
 use common::*;
 
+use clothbake::accuracy::lookup_f32;
 use clothbake::bake::bake;
 use clothbake::environment::Environment;
 use clothbake::gpu::{GpuContext, GpuSampler, GpuTable};
@@ -125,7 +126,7 @@ fn white_furnace_gives_the_directional_albedo() {
                 continue;
             }
             let f = |wi: DVec3| {
-                let v = r.table.lookup_f32(wi.as_vec3(), wo.as_vec3()).as_dvec3();
+                let v = lookup_f32(&r.table, wi, wo);
                 (v.x + v.y + v.z) / 3.0
             };
             let values: Vec<f64> = (0..DRAWS)
@@ -207,7 +208,7 @@ fn studio_render_approaches_the_cpu_reference() {
         let cpu = reference::shade_with(
             &r.gbuffer,
             &settings,
-            |wi, wo| r.table.lookup_f32(wi.as_vec3(), wo.as_vec3()).as_dvec3(),
+            |wi, wo| lookup_f32(&r.table, wi, wo),
             Some(&environment),
         );
         let error = image_error(&r.image, &cpu, settings.exposure).unwrap();

@@ -2,7 +2,7 @@
 //! buffer and its WGSL (`shaders/sampling.wgsl`), plus compute runs of its two functions for
 //! tests and measurements.
 
-use super::{BRDF_VISIBILITY, GpuContext, GpuError, run_pairs};
+use super::{GpuContext, GpuError, brdf_entry, run_pairs};
 use crate::sampling::Sampler;
 use glam::Vec3;
 use wgpu::util::DeviceExt;
@@ -21,16 +21,14 @@ pub struct GpuSampler {
 
 /// The storage binding layout entry of the sampler's data.
 pub fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
+    brdf_entry(
         binding,
-        visibility: BRDF_VISIBILITY,
-        ty: wgpu::BindingType::Buffer {
+        wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Storage { read_only: true },
             has_dynamic_offset: false,
             min_binding_size: None,
         },
-        count: None,
-    }
+    )
 }
 
 /// The sampler's WGSL functions with the constants of its layout; the including module

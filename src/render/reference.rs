@@ -10,6 +10,8 @@ use crate::environment::{Environment, EnvironmentSampler};
 use crate::model::Patch;
 use crate::sampling::{Sampler, hammersley};
 use glam::DVec3;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
 use rayon::prelude::*;
 
 /// The environment term of the reference: `∫ L_env(wi) F(wi, wo) dwi` estimated per pixel
@@ -37,17 +39,10 @@ pub fn shade(
     shade_with(gbuffer, settings, |wi, wo| patch.eval(wi, wo), environment)
 }
 
-/// A per-pixel shift in [0, 1)³ (a hash of the pixel index: SplitMix64's finaliser).
+/// A per-pixel shift in [0, 1)³, seeded by the pixel index.
 fn pixel_shift(index: usize) -> [f64; 3] {
-    let mut z = (index as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
-    let mut next = || {
-        z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut x = z;
-        x = (x ^ (x >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        x = (x ^ (x >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        (x ^ (x >> 31)) as f64 / 2f64.powi(64)
-    };
-    [next(), next(), next()]
+    let mut rng = Pcg64::seed_from_u64(index as u64);
+    [rng.random(), rng.random(), rng.random()]
 }
 
 /// [`shade`] with any F(wi, wo) (unit directions in the local frame, both above the
