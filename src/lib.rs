@@ -36,6 +36,7 @@ pub mod fabric_file;
 #[cfg(feature = "runtime")]
 pub mod gpu;
 pub mod manifest;
+pub mod mesh;
 pub mod model;
 #[cfg(feature = "runtime")]
 pub mod render;

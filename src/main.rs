@@ -188,6 +188,10 @@ enum Command {
         /// Importance samples per pixel of the reference's environment term.
         #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
         reference_samples: u32,
+        /// Also write the linear radiance (before exposure and tone mapping) as an OpenEXR
+        /// file of f16 RGBA beside each PNG (STEM.exr; alpha 1 on cloth, 0 on background).
+        #[arg(long)]
+        linear: bool,
     },
     #[cfg(feature = "runtime")]
     /// Open an interactive window showing the scene's cloth shaded by table lookup (or by the
@@ -583,6 +587,7 @@ fn run(cli: Cli) -> Result<(), String> {
             nodes,
             reference,
             reference_samples,
+            linear,
         } => {
             let nodes = nodes.nodes(shader == RenderShaderArg::Resonant, "--shader resonant")?;
             let shader = match (shader, samples) {
@@ -605,6 +610,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 shader,
                 reference,
                 reference_samples,
+                linear,
                 mesh: scene.mesh,
             };
             render::job::run(&job, &mut |line| println!("{line}")).map(|_| ())

@@ -428,6 +428,72 @@ pub fn albedo_curve(
         .collect()
 }
 
+/// Rows (outgoing elevations) of an [`AlbedoMap`]: row i at elevation 90°·(i/(rows − 1))^1.5,
+/// dense at the horizon where the albedo changes fastest (as the sampler's nodes), row 0 at
+/// [`GRAZING_NODE_DEG`] (F vanishes at exactly 0°). A fetch's row coordinate is
+/// (elevation/90°)^(2/3)·(rows − 1).
+pub const ALBEDO_MAP_ELEVATIONS: usize = 33;
+/// Columns (outgoing azimuths) of an [`AlbedoMap`]: column j at 360°·j/(columns − 1), so the
+/// last column repeats the first and a clamped bilinear fetch wraps the azimuth.
+pub const ALBEDO_MAP_AZIMUTHS: usize = 65;
+
+/// The directional albedo `∫ F(wi, wo) dwi` (RGB) on a grid of outgoing directions in the
+/// cloth frame: what a uniform ambient radiance `L_a` reflects, `L_o(wo) = L_a · albedo(wo)`
+/// (MODEL.md's F holds every cosine). Row-major, [`ALBEDO_MAP_AZIMUTHS`] columns of azimuth
+/// from thread 1 (x) towards thread 2 (y) per row of elevation ([`ALBEDO_MAP_ELEVATIONS`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AlbedoMap {
+    pub rgb: Vec<[f32; 3]>,
+    /// The largest standard error (channel mean) of one node's estimate.
+    pub standard_error: f64,
+}
+
+impl AlbedoMap {
+    /// The map of F = `f`, each node by [`directional_albedo`] with `samples` draws of
+    /// `sampler`; nodes in parallel, deterministic.
+    pub fn build(
+        sampler: &Sampler,
+        f: impl Fn(DVec3, DVec3) -> DVec3 + Sync,
+        samples: usize,
+    ) -> Self {
+        let nodes: Vec<([f32; 3], f64)> = (0..ALBEDO_MAP_ELEVATIONS * ALBEDO_MAP_AZIMUTHS)
+            .into_par_iter()
+            .map(|n| {
+                let (i, j) = (n / ALBEDO_MAP_AZIMUTHS, n % ALBEDO_MAP_AZIMUTHS);
+                let elevation = (90.0 * (i as f64 / (ALBEDO_MAP_ELEVATIONS - 1) as f64).powf(1.5))
+                    .max(GRAZING_NODE_DEG)
+                    .to_radians();
+                let azimuth = TAU * j as f64 / (ALBEDO_MAP_AZIMUTHS - 1) as f64;
+                let (albedo, sigma) =
+                    directional_albedo(sampler, &f, direction(elevation, azimuth), samples);
+                (albedo.as_vec3().to_array(), sigma / (samples as f64).sqrt())
+            })
+            .collect();
+        Self {
+            rgb: nodes.iter().map(|n| n.0).collect(),
+            standard_error: nodes.iter().map(|n| n.1).fold(0.0, f64::max),
+        }
+    }
+
+    /// The map's bilinear interpolation at `wo` (unit, wo.z ≥ 0), as a GPU's clamped
+    /// bilinear fetch of the map as a texture reads it.
+    pub fn at(&self, wo: DVec3) -> DVec3 {
+        let y = ((elevation_of(wo) / FRAC_PI_2).max(0.0).powf(2.0 / 3.0)
+            * (ALBEDO_MAP_ELEVATIONS - 1) as f64)
+            .clamp(0.0, (ALBEDO_MAP_ELEVATIONS - 1) as f64);
+        let x = azimuth_of(wo) / TAU * (ALBEDO_MAP_AZIMUTHS - 1) as f64;
+        let (i0, j0) = (
+            (y as usize).min(ALBEDO_MAP_ELEVATIONS - 2),
+            (x as usize).min(ALBEDO_MAP_AZIMUTHS - 2),
+        );
+        let (fy, fx) = (y - i0 as f64, x - j0 as f64);
+        let node =
+            |i: usize, j: usize| DVec3::from(self.rgb[i * ALBEDO_MAP_AZIMUTHS + j].map(f64::from));
+        (node(i0, j0) * (1.0 - fx) + node(i0, j0 + 1) * fx) * (1.0 - fy)
+            + (node(i0 + 1, j0) * (1.0 - fx) + node(i0 + 1, j0 + 1) * fx) * fy
+    }
+}
+
 /// The albedo curve as a text table (what `clothbake albedo` prints for one fabric).
 pub fn describe_albedo(name: &str, rows: &[AlbedoRow], samples: usize) -> String {
     use std::fmt::Write;

@@ -191,7 +191,7 @@ pub fn default_lights() -> Vec<Light> {
     ]
 }
 
-/// Which cloth mesh to render (see `render::mesh`).
+/// Which cloth mesh to render (see [`crate::mesh`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MeshKind {

@@ -253,6 +253,26 @@ fn text_attribute(header: &exr::meta::header::Header, key: &str) -> Option<Strin
 
 /// Reads and validates a table file.
 pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError> {
+    let io_error = |source| TableFileError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let size = std::fs::metadata(path).map_err(io_error)?.len();
+    if size > MAX_TABLE_FILE_BYTES {
+        return Err(TableFileError::Invalid {
+            path: path.to_path_buf(),
+            message: format!("is {size} bytes, larger than any table ({MAX_TABLE_FILE_BYTES})"),
+        });
+    }
+    read_table_bytes(&std::fs::read(path).map_err(io_error)?, path)
+}
+
+/// Reads and validates a table from the bytes of its file (for asset systems that hand
+/// over bytes, such as Bevy's); `path` names it in errors.
+pub fn read_table_bytes(
+    bytes: &[u8],
+    path: &Path,
+) -> std::result::Result<TableFile, TableFileError> {
     let invalid = |message: String| TableFileError::Invalid {
         path: path.to_path_buf(),
         message,
@@ -261,20 +281,15 @@ pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError>
         path: path.to_path_buf(),
         source,
     };
-    let size = std::fs::metadata(path)
-        .map_err(|source| TableFileError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?
-        .len();
-    if size > MAX_TABLE_FILE_BYTES {
+    if bytes.len() as u64 > MAX_TABLE_FILE_BYTES {
         return Err(invalid(format!(
-            "is {size} bytes, larger than any table ({MAX_TABLE_FILE_BYTES})"
+            "is {} bytes, larger than any table ({MAX_TABLE_FILE_BYTES})",
+            bytes.len()
         )));
     }
 
     // The headers alone first: nothing sized by the file is allocated until they check out.
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(exr_error)?;
+    let meta = exr::meta::MetaData::read_from_buffered(bytes, false).map_err(exr_error)?;
     let first = meta
         .headers
         .first()
@@ -357,7 +372,7 @@ pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError>
         .all_channels()
         .all_layers()
         .all_attributes()
-        .from_file(path)
+        .from_buffered(std::io::Cursor::new(bytes))
         .map_err(exr_error)?;
     let mut planes = Vec::with_capacity(specs.len());
     for spec in specs {

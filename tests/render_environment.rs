@@ -16,7 +16,7 @@ use clothbake::environment::Environment;
 use clothbake::gpu::{GpuContext, GpuSampler, GpuTable};
 use clothbake::render::image::{LinearImage, image_error};
 
-use clothbake::render::mesh::Mesh;
+use clothbake::mesh::Mesh;
 use clothbake::render::reference::{self, ReferenceEnvironment};
 use clothbake::render::{FrameSettings, GBuffer, GpuEnvironment, Headless};
 use clothbake::sampling::Sampler;

@@ -163,3 +163,53 @@ fn importance_sampling_beats_cosine_sampling() {
         );
     }
 }
+
+/// The albedo map (what engines shade ambient light with, `clothbake_bevy`'s binding 8):
+/// its bilinear interpolation between nodes against a direct estimate with 16× the samples,
+/// at 200 random outgoing directions 2° to 90° above the horizon. Measured (channel mean):
+/// satin largest relative error 2.6% (at 2°, where its albedo changes fastest) and RMS 0.66%,
+/// velvet 1.3% and 0.43%; bounds 4% and 1%. With rows evenly spaced in elevation instead of
+/// dense at the horizon, satin's largest error was 6.1%.
+#[test]
+fn albedo_map_interpolates_the_directional_albedo() {
+    use clothbake::sampling::{AlbedoMap, directional_albedo};
+    for fabric in builtin()
+        .iter()
+        .filter(|f| ["velvet", "polyester_satin_charmeuse"].contains(&f.name.as_str()))
+    {
+        let patch = Patch::new(fabric, Integration::Resonant(ResonantNodes::DEFAULT));
+        let f = |wi: DVec3, wo: DVec3| patch.eval(wi, wo);
+        let sampler = Sampler::for_fabric(fabric);
+        let map = AlbedoMap::build(&sampler, f, 256);
+        let mut rng = Pcg64::seed_from_u64(7);
+        let (mut worst, mut sum2, mut n) = (0.0f64, 0.0, 0);
+        for _ in 0..200 {
+            let elevation = rng.random_range(2.0f64..90.0).to_radians();
+            let azimuth = rng.random_range(0.0..2.0 * PI);
+            let wo = DVec3::new(
+                elevation.cos() * azimuth.cos(),
+                elevation.cos() * azimuth.sin(),
+                elevation.sin(),
+            );
+            let (direct, _) = directional_albedo(&sampler, f, wo, 4096);
+            let mean = |v: DVec3| (v.x + v.y + v.z) / 3.0;
+            let error = (mean(map.at(wo)) - mean(direct)).abs() / mean(direct);
+            worst = worst.max(error);
+            sum2 += error * error;
+            n += 1;
+        }
+        let rms = (sum2 / n as f64).sqrt();
+        println!(
+            "{}: albedo map against 4096-sample estimates: max {:.2}%, RMS {:.2}% (node standard error {:.1e})",
+            fabric.name,
+            100.0 * worst,
+            100.0 * rms,
+            map.standard_error
+        );
+        assert!(
+            worst < 0.03 && rms < 0.01,
+            "{}: max {worst}, RMS {rms}",
+            fabric.name
+        );
+    }
+}

@@ -3,13 +3,13 @@
 //! back to the CPU. The read-back (copy, map, unpad rows) lives here and nowhere else.
 
 use super::image::{LinearImage, Rgba8Image};
-use super::mesh::Mesh;
 use super::renderer::check_gbuffer_support;
 use super::{
     DEPTH_FORMAT, FrameSettings, FrameTargets, FrameTiming, GBUFFER_FORMAT, GBufferTargets,
     LINEAR_FORMAT, PassTimestamps, Renderer, TimingSource,
 };
 use crate::gpu::{GpuBrdf, GpuContext, GpuError};
+use crate::mesh::Mesh;
 use std::time::Instant;
 
 /// Largest headless image side: bounds the read-back and G-buffer memory (3 × 16 bytes per

@@ -2,12 +2,14 @@
 //! direct shader or the resonant shader, written as PNG with its median GPU time per frame;
 //! optionally the CPU reference of the same view, an error heat map and the image error.
 
-use super::image::{HEATMAP_LOG10_RANGE, ImageError, error_heatmap, image_error, write_png};
-use super::mesh::Mesh;
+use super::image::{
+    HEATMAP_LOG10_RANGE, ImageError, error_heatmap, image_error, write_linear_exr, write_png,
+};
 use super::reference::ReferenceEnvironment;
 use super::{FrameSettings, GpuEnvironment, Headless, RenderOutput, reference};
 use crate::fabric_file::FabricSet;
 use crate::gpu::{GpuBrdf, GpuConstant, GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
+use crate::mesh::Mesh;
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -48,6 +50,8 @@ pub struct RenderJob {
     pub reference: bool,
     /// Monte Carlo samples per pixel of the reference's environment term.
     pub reference_samples: u32,
+    /// Also write the linear radiance beside each PNG as `STEM.exr` (f16 RGBA).
+    pub linear: bool,
     /// An OBJ mesh to render instead of the scene's; the camera is re-aimed at it.
     pub mesh: Option<PathBuf>,
 }
@@ -232,6 +236,9 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
         let png = output_path(&job.out, &fabric.name, several);
         create_parent(&png)?;
         write_png(&png, &output.display)?;
+        if job.linear {
+            write_linear_exr(&png.with_extension("exr"), &output.linear)?;
+        }
         let coverage = output.linear.coverage();
         say(&format!(
             "{}: {} ({}×{}, {:.1}% covered): {}: median {:.3} ms per frame over {} frames ({})",

@@ -11,7 +11,6 @@
 //! - [`job`]: the `render` command: every fabric of a scene to PNG, timed, optionally
 //!   against the CPU reference.
 //! - [`image`]: tone mapping, image error metrics, heat maps, PNG/EXR files.
-//! - [`mesh`]: procedural cloth and OBJ loading with per-vertex thread frames.
 //!
 //! Shading (shaders/render.wgsl): per pixel, the frame (t, b = n × t, n) from the
 //! interpolated vertex normal and tangent, re-orthonormalised, flipped to the side facing the
@@ -31,7 +30,6 @@
 
 pub mod image;
 pub mod job;
-pub mod mesh;
 pub mod reference;
 
 mod camera;

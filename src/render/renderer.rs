@@ -10,9 +10,9 @@ use super::environment_map::{
 use super::frame::FrameUniform;
 use super::headless::target;
 use super::image;
-use super::mesh::{Mesh, Vertex};
 use crate::gpu::sampler::sampling_wgsl;
 use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampler};
+use crate::mesh::{Mesh, Vertex};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 

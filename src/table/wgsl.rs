@@ -54,6 +54,13 @@ pub fn lookup_wgsl(table: &Table) -> String {
     out
 }
 
+/// [`lookup_wgsl`] with the table's bindings in bind group `group` instead of 0, for an
+/// engine that gives materials a group of their own: Bevy's is `#{MATERIAL_BIND_GROUP}`, a
+/// value its shader preprocessor substitutes. Binding numbers stay as the layout declares them.
+pub fn lookup_wgsl_in_group(table: &Table, group: &str) -> String {
+    lookup_wgsl(table).replace("@group(0) @binding(", &format!("@group({group}) @binding("))
+}
+
 /// A WGSL f32 literal of `v` rounded to f32, for the constants of generated shaders:
 /// integers as `N.0`, others in the shortest exponent form that parses back to the same f32,
 /// with the `f` suffix (parsed directly as f32, no double rounding).
@@ -193,6 +200,18 @@ mod tests {
                     .map(|t| t.binding)
                     .collect();
                 assert_eq!(declared, provided, "{} {layout}", fabric.name);
+                // Moved to another group, no binding is left in group 0.
+                let moved = lookup_wgsl_in_group(&table, "2");
+                let module = naga::front::wgsl::parse_str(&moved).expect("moved lookup parses");
+                let groups: Vec<u32> = module
+                    .global_variables
+                    .iter()
+                    .filter_map(|(_, g)| g.binding.as_ref().map(|b| b.group))
+                    .collect();
+                assert!(
+                    !groups.is_empty() && groups.iter().all(|&g| g == 2),
+                    "{groups:?}"
+                );
             }
         }
     }

@@ -10,9 +10,9 @@ use super::timer::GpuTimer;
 use super::{Shading, ViewError, ViewSummary};
 use crate::environment::Environment;
 use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
+use crate::mesh::Mesh;
 use crate::model::{Fabric, ResonantNodes};
 use crate::render::job::load_table;
-use crate::render::mesh::Mesh;
 use crate::render::{
     Camera, DEPTH_FORMAT, FrameSettings, FrameTargets, GpuEnvironment, LightSource, Renderer,
 };

@@ -19,9 +19,9 @@ pub mod controls;
 mod timer;
 
 use crate::fabric_file::FabricSet;
+use crate::mesh::Mesh;
 use crate::model::Fabric;
 use crate::render::job::load_table;
-use crate::render::mesh::Mesh;
 use crate::scene::{MeshKind, MeshSpec, OrbitCamera, Scene};
 use std::path::{Path, PathBuf};
 
