@@ -1,0 +1,370 @@
+//! The six built-in fabrics on the default drape, in Bevy.
+//!
+//! Bake the tables first (`scripts/setup.sh`, or `cargo run --release -- bake --out tables`),
+//! then `cargo run --release -p clothbake_bevy --example drape`.
+//!
+//! Keys: 1–6 or Tab choose the fabric; drag with the left mouse button or use the arrow keys
+//! to orbit, the mouse wheel or +/− to zoom; Space stops or starts the moving light; Escape
+//! quits. `--frames N` quits after N frames; `--screenshot FILE.png` saves the last of them;
+//! `--tables DIR` reads the tables from DIR instead of the workspace's `tables/`.
+
+use bevy::asset::LoadState;
+use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
+use bevy::prelude::*;
+use bevy::render::extract_plugin::MainWorld;
+use bevy::render::render_resource::PipelineCache;
+use bevy::render::view::screenshot::{Screenshot, save_to_disk};
+use bevy::render::{ExtractSchedule, RenderApp};
+use clothbake::scene::{Light, Scene};
+use clothbake_bevy::{ClothMaterial, ClothPlugin, ClothTable, cloth_mesh};
+
+#[derive(Resource)]
+struct Options {
+    frames: Option<u32>,
+    screenshot: Option<String>,
+}
+
+#[derive(Resource)]
+struct Fabrics {
+    names: Vec<String>,
+    materials: Vec<Handle<ClothMaterial>>,
+    tables: Vec<Handle<ClothTable>>,
+    current: usize,
+}
+
+#[derive(Component)]
+struct Cloth;
+
+/// Render pipelines still compiling (copied from the render world every frame): a table's
+/// shader compiles after the table loads, and the cloth is drawn once it has.
+#[derive(Resource, Default)]
+struct PipelinesWaiting(usize);
+
+fn count_waiting_pipelines(cache: Res<PipelineCache>, mut main_world: ResMut<MainWorld>) {
+    main_world.resource_mut::<PipelinesWaiting>().0 = cache.waiting_pipelines().count();
+}
+
+#[derive(Component)]
+struct Orbit {
+    target: Vec3,
+    distance: f32,
+    yaw: f32,
+    pitch: f32,
+}
+
+#[derive(Component)]
+struct MovingLight {
+    running: bool,
+    angle: f32,
+    elevation: f32,
+}
+
+fn main() -> AppExit {
+    let mut options = Options {
+        frames: None,
+        screenshot: None,
+    };
+    let mut tables = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tables");
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        match (arg.as_str(), args.next()) {
+            ("--frames", Some(n)) => match n.parse() {
+                Ok(n) => options.frames = Some(n),
+                Err(_) => return usage(&format!("--frames {n}: not a number of frames")),
+            },
+            ("--screenshot", Some(path)) => options.screenshot = Some(path),
+            // Bevy resolves a relative asset root against the executable's directory.
+            ("--tables", Some(dir)) => match std::path::absolute(&dir) {
+                Ok(dir) => tables = dir,
+                Err(e) => return usage(&format!("--tables {dir}: {e}")),
+            },
+            _ => return usage(&format!("unknown argument {arg}")),
+        }
+    }
+    let mut app = App::new();
+    app.add_plugins(DefaultPlugins.set(AssetPlugin {
+        file_path: tables.to_string_lossy().into_owned(),
+        ..default()
+    }))
+    .add_plugins(ClothPlugin)
+    .init_resource::<PipelinesWaiting>();
+    app.sub_app_mut(RenderApp)
+        .add_systems(ExtractSchedule, count_waiting_pipelines);
+    app.insert_resource(options)
+        .insert_resource(GlobalAmbientLight {
+            brightness: 0.3,
+            ..default()
+        })
+        .insert_resource(ClearColor(Color::srgb(0.02, 0.02, 0.025)))
+        .add_systems(Startup, setup)
+        .add_systems(
+            Update,
+            (choose_fabric, orbit_camera, move_light, count_frames),
+        )
+        .run()
+}
+
+fn usage(problem: &str) -> AppExit {
+    eprintln!("drape: {problem}\nusage: drape [--frames N] [--screenshot FILE.png] [--tables DIR]");
+    AppExit::error()
+}
+
+fn setup(
+    mut commands: Commands,
+    assets: Res<AssetServer>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<ClothMaterial>>,
+) {
+    let scene = Scene::builtin();
+    let names = scene.fabrics.clone();
+    let loaded: Vec<ClothMaterial> = names
+        .iter()
+        .map(|name| ClothMaterial::load(&assets, &format!("{name}.exr")))
+        .collect();
+    let tables = loaded.iter().map(|m| m.table.clone()).collect();
+    let handles: Vec<Handle<ClothMaterial>> =
+        loaded.into_iter().map(|m| materials.add(m)).collect();
+    let drape = clothbake::mesh::Mesh::from_spec(&scene.mesh).expect("the built-in drape");
+    commands.spawn((
+        Mesh3d(meshes.add(cloth_mesh(&drape))),
+        MeshMaterial3d(handles[0].clone()),
+        Cloth,
+    ));
+    println!(
+        "drape: {} (keys 1–{} or Tab to switch; drag or arrows to orbit; wheel or +/− to zoom; \
+         Space: light; Escape: quit)",
+        names[0],
+        names.len()
+    );
+    commands.insert_resource(Fabrics {
+        names,
+        materials: handles,
+        tables,
+        current: 0,
+    });
+
+    let camera = scene.camera;
+    let orbit = Orbit {
+        target: Vec3::from_array(camera.target.map(|v| v as f32)),
+        distance: camera.distance as f32,
+        yaw: (camera.yaw_deg as f32).to_radians(),
+        pitch: (camera.pitch_deg as f32).to_radians(),
+    };
+    commands.spawn((
+        Camera3d::default(),
+        Projection::Perspective(PerspectiveProjection {
+            fov: (camera.fov_y_deg as f32).to_radians(),
+            ..default()
+        }),
+        orbit_transform(&orbit),
+        orbit,
+        // Bevy's default exposure is for sunlight; the scene's irradiances are near 1:
+        // exposure 2^(−ev100)/1.2 = 1, as `clothbake render`'s default scene.
+        bevy::camera::Exposure {
+            ev100: -(1.2f32.log2()),
+        },
+        // The ACES fit clothbake's renderer uses, and one that needs no lookup-table feature.
+        bevy::core_pipeline::tonemapping::Tonemapping::AcesFitted,
+    ));
+
+    // The scene's lights in Bevy's units: irradiance E as a directional light's illuminance,
+    // a point light's E·d² (intensity I) as luminous power 4π·I.
+    for light in &scene.lights {
+        match *light {
+            Light::Directional {
+                direction,
+                color,
+                irradiance,
+            } => {
+                let d = Vec3::from_array(direction.map(|v| v as f32)).normalize();
+                commands.spawn((
+                    DirectionalLight {
+                        color: Color::linear_rgb(color[0] as f32, color[1] as f32, color[2] as f32),
+                        illuminance: irradiance as f32,
+                        shadow_maps_enabled: true,
+                        ..default()
+                    },
+                    Transform::default().looking_to(-d, Vec3::Y),
+                    MovingLight {
+                        running: true,
+                        angle: d.z.atan2(d.x),
+                        elevation: d.y.asin(),
+                    },
+                ));
+            }
+            Light::Point {
+                position,
+                color,
+                intensity,
+            } => {
+                commands.spawn((
+                    PointLight {
+                        color: Color::linear_rgb(color[0] as f32, color[1] as f32, color[2] as f32),
+                        intensity: 4.0 * std::f32::consts::PI * intensity as f32,
+                        range: 100.0,
+                        shadow_maps_enabled: true,
+                        ..default()
+                    },
+                    Transform::from_translation(Vec3::from_array(position.map(|v| v as f32))),
+                ));
+            }
+        }
+    }
+}
+
+fn orbit_transform(orbit: &Orbit) -> Transform {
+    let offset = Vec3::new(
+        orbit.pitch.cos() * orbit.yaw.sin(),
+        orbit.pitch.sin(),
+        orbit.pitch.cos() * orbit.yaw.cos(),
+    ) * orbit.distance;
+    Transform::from_translation(orbit.target + offset).looking_at(orbit.target, Vec3::Y)
+}
+
+fn choose_fabric(
+    keys: Res<ButtonInput<KeyCode>>,
+    mut fabrics: ResMut<Fabrics>,
+    mut cloth: Query<&mut MeshMaterial3d<ClothMaterial>, With<Cloth>>,
+) {
+    const DIGITS: [KeyCode; 6] = [
+        KeyCode::Digit1,
+        KeyCode::Digit2,
+        KeyCode::Digit3,
+        KeyCode::Digit4,
+        KeyCode::Digit5,
+        KeyCode::Digit6,
+    ];
+    let count = fabrics.names.len();
+    let chosen = if keys.just_pressed(KeyCode::Tab) {
+        Some((fabrics.current + 1) % count)
+    } else {
+        DIGITS
+            .iter()
+            .position(|&k| keys.just_pressed(k))
+            .filter(|&i| i < count)
+    };
+    if let Some(i) = chosen {
+        fabrics.current = i;
+        for mut material in &mut cloth {
+            material.0 = fabrics.materials[i].clone();
+        }
+        println!("drape: {}", fabrics.names[i]);
+    }
+}
+
+fn orbit_camera(
+    keys: Res<ButtonInput<KeyCode>>,
+    buttons: Res<ButtonInput<MouseButton>>,
+    motion: Res<AccumulatedMouseMotion>,
+    scroll: Res<AccumulatedMouseScroll>,
+    time: Res<Time>,
+    mut cameras: Query<(&mut Orbit, &mut Transform)>,
+) {
+    let step = 1.5 * time.delta_secs();
+    let key = |k: KeyCode| if keys.pressed(k) { step } else { 0.0 };
+    for (mut orbit, mut transform) in &mut cameras {
+        let mut turn = Vec2::new(
+            key(KeyCode::ArrowRight) - key(KeyCode::ArrowLeft),
+            key(KeyCode::ArrowUp) - key(KeyCode::ArrowDown),
+        );
+        if buttons.pressed(MouseButton::Left) {
+            turn += Vec2::new(-motion.delta.x, motion.delta.y) * 0.005;
+        }
+        orbit.yaw += turn.x;
+        orbit.pitch = (orbit.pitch + turn.y).clamp(-1.4, 1.4);
+        let zoom = key(KeyCode::Minus) - key(KeyCode::Equal) - 0.1 * scroll.delta.y;
+        orbit.distance = (orbit.distance * (1.0 + zoom)).clamp(1.0, 20.0);
+        *transform = orbit_transform(&orbit);
+    }
+}
+
+fn move_light(
+    keys: Res<ButtonInput<KeyCode>>,
+    time: Res<Time>,
+    mut lights: Query<(&mut MovingLight, &mut Transform)>,
+) {
+    for (mut light, mut transform) in &mut lights {
+        if keys.just_pressed(KeyCode::Space) {
+            light.running = !light.running;
+        }
+        if light.running {
+            light.angle += 0.4 * time.delta_secs();
+        }
+        let d = Vec3::new(
+            light.elevation.cos() * light.angle.cos(),
+            light.elevation.sin(),
+            light.elevation.cos() * light.angle.sin(),
+        );
+        *transform = Transform::default().looking_to(-d, Vec3::Y);
+    }
+}
+
+/// Quits on Escape, on a table that fails to load, or `--frames` frames after every table
+/// has loaded and no pipeline has been compiling for three frames, saving the last one with
+/// `--screenshot`.
+#[allow(clippy::too_many_arguments)] // a system: each argument is a resource it reads
+fn count_frames(
+    mut commands: Commands,
+    keys: Res<ButtonInput<KeyCode>>,
+    options: Res<Options>,
+    fabrics: Res<Fabrics>,
+    assets: Res<AssetServer>,
+    waiting: Res<PipelinesWaiting>,
+    time: Res<Time>,
+    mut settled: Local<u32>,
+    mut frame: Local<u32>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    if keys.just_pressed(KeyCode::Escape) {
+        exit.write(AppExit::Success);
+    }
+    for (name, table) in fabrics.names.iter().zip(&fabrics.tables) {
+        if let LoadState::Failed(error) = assets.load_state(table) {
+            eprintln!(
+                "drape: {name}: {error} (bake the tables first: cargo run --release -- bake)"
+            );
+            exit.write(AppExit::error());
+            return;
+        }
+    }
+    if *frame == 0 {
+        let loaded = fabrics
+            .tables
+            .iter()
+            .all(|t| assets.is_loaded_with_dependencies(t));
+        *settled = if loaded && waiting.0 == 0 {
+            *settled + 1
+        } else {
+            0
+        };
+        if *settled < 3 {
+            return;
+        }
+        println!(
+            "drape: {} tables loaded and shaders compiled after {:.1} s",
+            fabrics.tables.len(),
+            time.elapsed_secs()
+        );
+    }
+    *frame += 1;
+    let Some(frames) = options.frames else {
+        return;
+    };
+    match (&options.screenshot, *frame) {
+        (Some(path), f) if f == frames => {
+            commands
+                .spawn(Screenshot::primary_window())
+                .observe(save_to_disk(path.clone()));
+        }
+        // A screenshot is written a few frames after it is asked for.
+        (Some(_), f) if f >= frames + 10 => {
+            println!("drape: drew {f} frames");
+            exit.write(AppExit::Success);
+        }
+        (None, f) if f >= frames => {
+            println!("drape: drew {f} frames");
+            exit.write(AppExit::Success);
+        }
+        _ => {}
+    }
+}

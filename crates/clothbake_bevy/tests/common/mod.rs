@@ -1,0 +1,45 @@
+//! What the tests share: the workspace, scratch directories, small tables.
+#![allow(dead_code)] // each test file uses part of it
+
+use std::path::{Path, PathBuf};
+
+pub fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// `target/clothbake_bevy-tests/NAME`, created.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = workspace()
+        .join("target")
+        .join("clothbake_bevy-tests")
+        .join(name);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+/// Resolution of the tests' tables: both sides of a comparison read the same table, so its
+/// accuracy does not matter, and a small one bakes in about a second.
+pub const TEST_RESOLUTION: u32 = 16;
+
+/// Tables of `fabrics` (built-in names) in `dir`, at the default layout and
+/// [`TEST_RESOLUTION`]; tables already there and valid are kept.
+pub fn bake_tables(dir: &Path, fabrics: &[&str]) {
+    let set = clothbake::fabric_file::FabricSet::builtin();
+    for &name in fabrics {
+        let path = dir.join(format!("{name}.exr"));
+        if clothbake::table_file::read_table(&path)
+            .is_ok_and(|t| t.table.resolution == TEST_RESOLUTION)
+        {
+            continue;
+        }
+        let fabric = set.get(name).expect("built-in fabric");
+        let table = clothbake::bake::bake(
+            fabric,
+            clothbake::table::Layout::DEFAULT,
+            TEST_RESOLUTION,
+            &|| {},
+        )
+        .expect("bake");
+        clothbake::table_file::write_table(&path, &table).expect("write table");
+    }
+}
