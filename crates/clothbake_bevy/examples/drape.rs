@@ -6,7 +6,8 @@
 //! Keys: 1–6 or Tab choose the fabric; drag with the left mouse button or use the arrow keys
 //! to orbit, the mouse wheel or +/− to zoom; Space stops or starts the moving light; Escape
 //! quits. `--frames N` quits after N frames; `--screenshot FILE.png` saves the last of them;
-//! `--tables DIR` reads the tables from DIR instead of the workspace's `tables/`.
+//! `--tables DIR` reads the tables from DIR instead of the workspace's `tables/`; `--fabric
+//! NAME` starts with that fabric.
 
 use bevy::asset::LoadState;
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
@@ -22,6 +23,7 @@ use clothbake_bevy::{ClothMaterial, ClothPlugin, ClothTable, cloth_mesh};
 struct Options {
     frames: Option<u32>,
     screenshot: Option<String>,
+    fabric: Option<String>,
 }
 
 #[derive(Resource)]
@@ -63,6 +65,7 @@ fn main() -> AppExit {
     let mut options = Options {
         frames: None,
         screenshot: None,
+        fabric: None,
     };
     let mut tables = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tables");
     let mut args = std::env::args().skip(1);
@@ -73,6 +76,7 @@ fn main() -> AppExit {
                 Err(_) => return usage(&format!("--frames {n}: not a number of frames")),
             },
             ("--screenshot", Some(path)) => options.screenshot = Some(path),
+            ("--fabric", Some(name)) => options.fabric = Some(name),
             // Bevy resolves a relative asset root against the executable's directory.
             ("--tables", Some(dir)) => match std::path::absolute(&dir) {
                 Ok(dir) => tables = dir,
@@ -105,18 +109,31 @@ fn main() -> AppExit {
 }
 
 fn usage(problem: &str) -> AppExit {
-    eprintln!("drape: {problem}\nusage: drape [--frames N] [--screenshot FILE.png] [--tables DIR]");
+    eprintln!(
+        "drape: {problem}\nusage: drape [--frames N] [--screenshot FILE.png] [--tables DIR] [--fabric NAME]"
+    );
     AppExit::error()
 }
 
 fn setup(
     mut commands: Commands,
+    options: Res<Options>,
     assets: Res<AssetServer>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<ClothMaterial>>,
 ) {
     let scene = Scene::builtin();
     let names = scene.fabrics.clone();
+    let current = match &options.fabric {
+        None => 0,
+        Some(name) => names.iter().position(|n| n == name).unwrap_or_else(|| {
+            eprintln!(
+                "drape: no fabric {name}; the fabrics are {}",
+                names.join(", ")
+            );
+            0
+        }),
+    };
     let loaded: Vec<ClothMaterial> = names
         .iter()
         .map(|name| ClothMaterial::load(&assets, &format!("{name}.exr")))
@@ -127,20 +144,20 @@ fn setup(
     let drape = clothbake::mesh::Mesh::from_spec(&scene.mesh).expect("the built-in drape");
     commands.spawn((
         Mesh3d(meshes.add(cloth_mesh(&drape))),
-        MeshMaterial3d(handles[0].clone()),
+        MeshMaterial3d(handles[current].clone()),
         Cloth,
     ));
     println!(
         "drape: {} (keys 1–{} or Tab to switch; drag or arrows to orbit; wheel or +/− to zoom; \
          Space: light; Escape: quit)",
-        names[0],
+        names[current],
         names.len()
     );
     commands.insert_resource(Fabrics {
         names,
         materials: handles,
         tables,
-        current: 0,
+        current,
     });
 
     let camera = scene.camera;

@@ -1,0 +1,88 @@
+//! Bad table files give Bevy's usual asset error, naming the file and what is wrong, and never
+//! a panic: truncated, damaged texels, not an EXR at all, missing.
+
+mod common;
+use common::{bake_tables, scratch};
+
+use bevy::app::ScheduleRunnerPlugin;
+use bevy::asset::{AssetPlugin, LoadState};
+use bevy::log::LogPlugin;
+use bevy::prelude::*;
+use bevy::window::ExitCondition;
+use bevy::winit::WinitPlugin;
+use clothbake_bevy::{ClothPlugin, ClothTable};
+use std::time::{Duration, Instant};
+
+#[test]
+fn bad_tables_fail_to_load_with_a_reason() {
+    let dir = scratch("loader");
+    bake_tables(&dir, &["linen_plain"]);
+    let good = std::fs::read(dir.join("linen_plain.exr")).unwrap();
+    std::fs::write(dir.join("truncated.exr"), &good[..good.len() / 2]).unwrap();
+    // One bit flipped in the last layer's compressed texels.
+    let mut damaged = good.clone();
+    let at = damaged.len() - 64;
+    damaged[at] ^= 0x40;
+    std::fs::write(dir.join("damaged.exr"), &damaged).unwrap();
+    std::fs::write(dir.join("not_a_table.exr"), b"#?RADIANCE\nnot an EXR").unwrap();
+    let cases = [
+        ("linen_plain.exr", None),
+        ("truncated.exr", Some("truncated.exr")),
+        ("damaged.exr", Some("damaged.exr")),
+        ("not_a_table.exr", Some("not_a_table.exr")),
+        ("missing.exr", Some("missing.exr")),
+    ];
+
+    let mut app = App::new();
+    app.add_plugins(
+        DefaultPlugins
+            .set(WindowPlugin {
+                primary_window: None,
+                exit_condition: ExitCondition::DontExit,
+                ..default()
+            })
+            .set(AssetPlugin {
+                file_path: dir.to_string_lossy().into_owned(),
+                ..default()
+            })
+            .disable::<WinitPlugin>()
+            .disable::<LogPlugin>(),
+    )
+    .add_plugins((ScheduleRunnerPlugin::run_loop(Duration::ZERO), ClothPlugin));
+    app.finish();
+    app.cleanup();
+    let handles: Vec<Handle<ClothTable>> = {
+        let server = app.world().resource::<AssetServer>();
+        cases.iter().map(|(path, _)| server.load(*path)).collect()
+    };
+    let start = Instant::now();
+    loop {
+        app.update();
+        let server = app.world().resource::<AssetServer>();
+        let states: Vec<LoadState> = handles.iter().map(|h| server.load_state(h)).collect();
+        if states
+            .iter()
+            .all(|s| matches!(s, LoadState::Loaded | LoadState::Failed(_)))
+        {
+            for ((path, expected), state) in cases.iter().zip(&states) {
+                match (expected, state) {
+                    (None, LoadState::Loaded) => println!("{path}: loaded"),
+                    (Some(name), LoadState::Failed(error)) => {
+                        let message = error.to_string();
+                        println!("{path}: {message}");
+                        assert!(message.contains(name), "{path}: {message}");
+                    }
+                    _ => panic!("{path}: {state:?}"),
+                }
+            }
+            let tables = app.world().resource::<Assets<ClothTable>>();
+            let table = tables.get(&handles[0]).expect("the good table");
+            assert_eq!(table.fabric, "linen_plain");
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "loads still pending: {states:?}"
+        );
+    }
+}
