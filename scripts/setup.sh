@@ -7,10 +7,12 @@
 # - Mesa's lavapipe Vulkan driver (mesa-vulkan-drivers, libvulkan1) so that wgpu finds an
 #   adapter without a GPU; installing it also upgrades the Mesa packages already present,
 #   which must match;
-# - Xvfb, an X server without a display, for the `clothbake view` window test, and the X
-#   client libraries winit loads at run time (it links none of them);
+# - Xvfb, an X server without a display, for the window tests (`clothbake view` and the Bevy
+#   plugin's `drape` example), and the X client libraries winit loads at run time (it links
+#   none of them);
 # - glslang-tools (Khronos' glslangValidator), which the tests use to compile the GLSL and
-#   HLSL translations of the lookup (`clothbake wgsl --lang`).
+#   HLSL translations of the lookup (`clothbake wgsl --lang`) and to run the GLSL through
+#   Vulkan.
 # Packages already installed are left alone, so a second run costs nothing.
 set -euo pipefail
 

@@ -31,7 +31,7 @@ const LOOKUP_MARKER: &str = "// CLOTHBAKE_TABLE_LOOKUP";
 
 /// The table bindings a layout may use (`clothbake::table::TableLookup::textures`): 3D
 /// textures at 4 and 5, 2D array textures at 6 and 7.
-pub(crate) const TABLE_BINDINGS: [(u32, TextureViewDimension); 4] = [
+const TABLE_BINDINGS: [(u32, TextureViewDimension); 4] = [
     (4, TextureViewDimension::D3),
     (5, TextureViewDimension::D3),
     (6, TextureViewDimension::D2Array),

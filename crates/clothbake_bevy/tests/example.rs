@@ -11,19 +11,15 @@ use std::time::{Duration, Instant};
 /// A hung X server or driver must fail the test, not hold CI: a run takes seconds.
 const HANG_GUARD: Duration = Duration::from_secs(300);
 
-const FABRICS: [&str; 6] = [
-    "linen_plain",
-    "silk_crepe_de_chine",
-    "polyester_satin_charmeuse",
-    "polyester_satin_charmeuse_back",
-    "silk_shot",
-    "velvet",
-];
-
 #[test]
 fn drape_example_draws_frames_under_xvfb_and_exits() {
     let dir = scratch("example");
-    bake_tables(&dir, &FABRICS);
+    // The example shows the built-in scene's fabrics.
+    let fabrics = clothbake::scene::Scene::builtin().fabrics;
+    bake_tables(
+        &dir,
+        &fabrics.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
     // target/release/deps/example-HASH → target/release/examples/drape (cargo test builds the
     // examples of the package it tests).
     let exe = std::env::current_exe().unwrap();

@@ -17,22 +17,18 @@
 //! measurement it comes from. The point light checks Bevy's point-light units (power 4π·I),
 //! and an ambient case checks the ambient term against clothbake's uniform environment.
 
-use bevy::app::ScheduleRunnerPlugin;
-use bevy::asset::{AssetPlugin, LoadState};
+use bevy::asset::LoadState;
 use bevy::camera::{Exposure, Hdr, RenderTarget};
 use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::light::{AmbientLight, GlobalAmbientLight};
-use bevy::log::LogPlugin;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::renderer::RenderAdapterInfo;
-use bevy::window::ExitCondition;
-use bevy::winit::WinitPlugin;
 use clothbake::scene::{Light, Scene};
-use clothbake_bevy::{ClothMaterial, ClothPlugin, ClothTable, cloth_mesh};
+use clothbake_bevy::{ClothMaterial, ClothTable, cloth_mesh};
 mod common;
-use common::{bake_tables, scratch, workspace};
+use common::{bake_tables, headless_app, scratch, workspace};
 
 use std::path::Path;
 use std::process::Command;
@@ -207,27 +203,12 @@ fn color(rgb: [f64; 3]) -> Color {
 type Deposit = Arc<Mutex<Option<Vec<[f32; 4]>>>>;
 
 /// Renders `case` with Bevy into an Rgba32Float image; returns linear radiance and the
-/// adapter. One app per case: Bevy's GPU light clustering lights every view with every point
-/// light, whatever their render layers, so cases cannot share an app.
+/// adapter. One app per case: with the cases in one app, each camera and its lights on a
+/// render layer of their own, the point light lit every camera's cloth (the directional
+/// cases gained exactly the point case's radiance).
 fn bevy_render(scene: &Scene, tables: &Path, case: &'static Case) -> (Vec<[f32; 4]>, String) {
-    let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(WindowPlugin {
-                primary_window: None,
-                exit_condition: ExitCondition::DontExit,
-                ..default()
-            })
-            .set(AssetPlugin {
-                file_path: tables.to_string_lossy().into_owned(),
-                ..default()
-            })
-            .disable::<WinitPlugin>()
-            // One global logger per process, and there is an app per case.
-            .disable::<LogPlugin>(),
-    )
-    .add_plugins((ScheduleRunnerPlugin::run_loop(Duration::ZERO), ClothPlugin))
-    .insert_resource(GlobalAmbientLight {
+    let mut app = headless_app(tables);
+    app.insert_resource(GlobalAmbientLight {
         brightness: 0.0,
         ..default()
     });

@@ -2,15 +2,11 @@
 //! a panic: truncated, damaged texels, not an EXR at all, missing.
 
 mod common;
-use common::{bake_tables, scratch};
+use common::{bake_tables, headless_app, scratch};
 
-use bevy::app::ScheduleRunnerPlugin;
-use bevy::asset::{AssetPlugin, LoadState};
-use bevy::log::LogPlugin;
+use bevy::asset::LoadState;
 use bevy::prelude::*;
-use bevy::window::ExitCondition;
-use bevy::winit::WinitPlugin;
-use clothbake_bevy::{ClothPlugin, ClothTable};
+use clothbake_bevy::ClothTable;
 use std::time::{Duration, Instant};
 
 #[test]
@@ -33,22 +29,7 @@ fn bad_tables_fail_to_load_with_a_reason() {
         ("missing.exr", Some("missing.exr")),
     ];
 
-    let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(WindowPlugin {
-                primary_window: None,
-                exit_condition: ExitCondition::DontExit,
-                ..default()
-            })
-            .set(AssetPlugin {
-                file_path: dir.to_string_lossy().into_owned(),
-                ..default()
-            })
-            .disable::<WinitPlugin>()
-            .disable::<LogPlugin>(),
-    )
-    .add_plugins((ScheduleRunnerPlugin::run_loop(Duration::ZERO), ClothPlugin));
+    let mut app = headless_app(&dir);
     app.finish();
     app.cleanup();
     let handles: Vec<Handle<ClothTable>> = {

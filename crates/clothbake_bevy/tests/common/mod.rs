@@ -1,7 +1,15 @@
 //! What the tests share: the workspace, scratch directories, small tables.
 #![allow(dead_code)] // each test file uses part of it
 
+use bevy::app::ScheduleRunnerPlugin;
+use bevy::asset::AssetPlugin;
+use bevy::log::LogPlugin;
+use bevy::prelude::*;
+use bevy::window::ExitCondition;
+use bevy::winit::WinitPlugin;
+use clothbake_bevy::ClothPlugin;
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 pub fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -42,4 +50,27 @@ pub fn bake_tables(dir: &Path, fabrics: &[&str]) {
         .expect("bake");
         clothbake::table_file::write_table(&path, &table).expect("write table");
     }
+}
+
+/// A Bevy app with `ClothPlugin`, no window and no logger (one global logger per process, and
+/// a test may make several apps), reading assets from `assets`; call `finish` and `cleanup`
+/// after adding systems, then `update`.
+pub fn headless_app(assets: &Path) -> App {
+    let mut app = App::new();
+    app.add_plugins(
+        DefaultPlugins
+            .set(WindowPlugin {
+                primary_window: None,
+                exit_condition: ExitCondition::DontExit,
+                ..default()
+            })
+            .set(AssetPlugin {
+                file_path: assets.to_string_lossy().into_owned(),
+                ..default()
+            })
+            .disable::<WinitPlugin>()
+            .disable::<LogPlugin>(),
+    )
+    .add_plugins((ScheduleRunnerPlugin::run_loop(Duration::ZERO), ClothPlugin));
+    app
 }
