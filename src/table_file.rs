@@ -257,18 +257,24 @@ pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError>
         path: path.to_path_buf(),
         source,
     };
+    // Checked before reading, so that a huge file is never read into memory.
     let size = std::fs::metadata(path).map_err(io_error)?.len();
     if size > MAX_TABLE_FILE_BYTES {
         return Err(TableFileError::Invalid {
             path: path.to_path_buf(),
-            message: format!("is {size} bytes, larger than any table ({MAX_TABLE_FILE_BYTES})"),
+            message: too_large(size),
         });
     }
     read_table_bytes(&std::fs::read(path).map_err(io_error)?, path)
 }
 
+fn too_large(size: u64) -> String {
+    format!("is {size} bytes, larger than any table ({MAX_TABLE_FILE_BYTES})")
+}
+
 /// Reads and validates a table from the bytes of its file (for asset systems that hand
-/// over bytes, such as Bevy's); `path` names it in errors.
+/// over bytes, such as Bevy's); `path` names it in errors. A caller reading from a stream
+/// should stop after [`MAX_TABLE_FILE_BYTES`] + 1 bytes: more is refused here anyway.
 pub fn read_table_bytes(
     bytes: &[u8],
     path: &Path,
@@ -282,10 +288,7 @@ pub fn read_table_bytes(
         source,
     };
     if bytes.len() as u64 > MAX_TABLE_FILE_BYTES {
-        return Err(invalid(format!(
-            "is {} bytes, larger than any table ({MAX_TABLE_FILE_BYTES})",
-            bytes.len()
-        )));
+        return Err(invalid(too_large(bytes.len() as u64)));
     }
 
     // The headers alone first: nothing sized by the file is allocated until they check out.

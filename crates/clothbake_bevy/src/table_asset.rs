@@ -20,10 +20,11 @@ use bevy::render::render_resource::{
     Extent3d, TextureDimension, TextureFormat, TextureViewDescriptor, TextureViewDimension,
 };
 use bevy::shader::Shader;
+use bevy::tasks::futures_lite::AsyncReadExt;
 use clothbake::sampling::{ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap, Sampler};
 use clothbake::table::TextureData;
 use clothbake::table::wgsl::lookup_wgsl_in_group;
-use clothbake::table_file::{TableFileError, read_table_bytes};
+use clothbake::table_file::{MAX_TABLE_FILE_BYTES, TableFileError, read_table_bytes};
 
 /// The fragment shader template; the loader puts the table's lookup at this marker line.
 const TEMPLATE: &str = include_str!("cloth_material.wgsl");
@@ -92,8 +93,13 @@ impl AssetLoader for ClothTableLoader {
         _settings: &(),
         load_context: &mut LoadContext<'_>,
     ) -> Result<ClothTable, ClothTableError> {
+        // At most one byte more than any table: a larger file is refused without being
+        // read into memory.
         let mut bytes = Vec::new();
-        reader.read_to_end(&mut bytes).await?;
+        reader
+            .take(MAX_TABLE_FILE_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .await?;
         let path = load_context.path().to_string();
         let file = read_table_bytes(&bytes, load_context.path().path())?;
         drop(bytes);

@@ -1,5 +1,5 @@
 //! Bad table files give Bevy's usual asset error, naming the file and what is wrong, and never
-//! a panic: truncated, damaged texels, not an EXR at all, missing.
+//! a panic: truncated, damaged texels, not an EXR at all, missing, too large.
 
 mod common;
 use common::{bake_tables, headless_app, scratch};
@@ -21,12 +21,19 @@ fn bad_tables_fail_to_load_with_a_reason() {
     damaged[at] ^= 0x40;
     std::fs::write(dir.join("damaged.exr"), &damaged).unwrap();
     std::fs::write(dir.join("not_a_table.exr"), b"#?RADIANCE\nnot an EXR").unwrap();
+    // Larger than any table (sparse: no disk used): refused after reading one byte more than
+    // the limit, not read whole.
+    std::fs::File::create(dir.join("huge.exr"))
+        .unwrap()
+        .set_len(4 * clothbake::table_file::MAX_TABLE_FILE_BYTES)
+        .unwrap();
     let cases = [
         ("linen_plain.exr", None),
         ("truncated.exr", Some("truncated.exr")),
         ("damaged.exr", Some("damaged.exr")),
         ("not_a_table.exr", Some("not_a_table.exr")),
         ("missing.exr", Some("missing.exr")),
+        ("huge.exr", Some("larger than any table")),
     ];
 
     let mut app = headless_app(&dir);
