@@ -117,18 +117,6 @@ fn to_local(f: ShadingFrame, w: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(w, f.t), dot(w, f.b), dot(w, f.n));
 }
 
-// Point k of the K-point Hammersley set: ((k + ½)/K, base-2 and base-3 radical inverses of
-// k), as `clothbake::sampling::hammersley`.
-fn render_hammersley(k: u32, count: u32) -> vec3<f32> {
-    var base3 = 0.0;
-    var scale = 1.0 / 3.0;
-    for (var i = k; i > 0u; i = i / 3u) {
-        base3 += f32(i % 3u) * scale;
-        scale /= 3.0;
-    }
-    return vec3<f32>((f32(k) + 0.5) / f32(count), f32(reverseBits(k)) * 2.3283064e-10, base3);
-}
-
 // The equirectangular coordinates of a world direction (+y up; u = 0.5 looks along −z), as
 // `clothbake::environment::equirect_uv`.
 fn render_environment_uv(d: vec3<f32>) -> vec2<f32> {
@@ -149,7 +137,7 @@ fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
     let size = render_frame.environment;
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < count; k++) {
-        let s = sampling_sample(wo, render_hammersley(k, count));
+        let s = sampling_sample(wo, sampling_hammersley(k, count));
         if s.w <= 0.0 {
             continue;
         }

@@ -148,3 +148,16 @@ fn sampling_sample(wo: vec3<f32>, u: vec3<f32>) -> vec4<f32> {
     }
     return vec4<f32>(wi, pdf);
 }
+
+// Point k of the K-point Hammersley set (the u of `sampling_sample` for K draws shared by
+// every pixel): ((k + ½)/K, base-2 and base-3 radical inverses of
+// k), as `clothbake::sampling::hammersley`.
+fn sampling_hammersley(k: u32, count: u32) -> vec3<f32> {
+    var base3 = 0.0;
+    var scale = 1.0 / 3.0;
+    for (var i = k; i > 0u; i = i / 3u) {
+        base3 += f32(i % 3u) * scale;
+        scale /= 3.0;
+    }
+    return vec3<f32>((f32(k) + 0.5) / f32(count), f32(reverseBits(k)) * 2.3283064e-10, base3);
+}

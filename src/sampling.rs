@@ -428,6 +428,11 @@ pub fn albedo_curve(
         .collect()
 }
 
+/// `shaders/sampling.wgsl`: `sampling_sample`, `sampling_pdf`, `sampling_hammersley` and the
+/// helpers they need, without a binding (the includer declares `sampling_data` and prepends
+/// [`Sampler::wgsl_constants`]).
+pub const SAMPLING_WGSL: &str = include_str!("../shaders/sampling.wgsl");
+
 /// Rows (outgoing elevations) of an [`AlbedoMap`]: row i at elevation 90°·(i/(rows − 1))^1.5,
 /// dense at the horizon where the albedo changes fastest (as the sampler's nodes), row 0 at
 /// [`GRAZING_NODE_DEG`] (F vanishes at exactly 0°). A fetch's row coordinate is

@@ -7,8 +7,7 @@ use crate::sampling::Sampler;
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
-/// `sampling_sample` and `sampling_pdf` (and the helpers they need), without a binding.
-pub const SAMPLING_WGSL: &str = include_str!("../../shaders/sampling.wgsl");
+pub use crate::sampling::SAMPLING_WGSL;
 /// Compute entry points over the sampler, for [`GpuSampler::draw`] and [`GpuSampler::pdf`].
 pub const SAMPLE_DRAWS_WGSL: &str = include_str!("../../shaders/sample_draws.wgsl");
 

@@ -3,9 +3,13 @@
 //! Bake the tables first (`scripts/setup.sh`, or `cargo run --release -- bake --out tables`),
 //! then `cargo run --release -p clothbake_bevy --example drape`.
 //!
+//! The scene is clothbake's default one: its key and point lights (casting Bevy shadows) and
+//! the built-in studio environment as an `EnvironmentMapLight` (16 importance samples per
+//! fragment, for speed; `clothbake render` uses 64).
+//!
 //! Keys: 1–6 or Tab choose the fabric; drag with the left mouse button or use the arrow keys
-//! to orbit, the mouse wheel or +/− to zoom; Space stops or starts the moving light; Escape
-//! quits. `--frames N` quits after N frames; `--screenshot FILE.png` saves the last of them;
+//! to orbit, the mouse wheel or +/− to zoom; Space stops or starts the moving light; E turns
+//! the environment light off and on; Escape quits. `--frames N` quits after N frames; `--screenshot FILE.png` saves the last of them;
 //! `--tables DIR` reads the tables from DIR instead of the workspace's `tables/`; `--fabric
 //! NAME` starts with that fabric.
 
@@ -17,7 +21,7 @@ use bevy::render::render_resource::PipelineCache;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 use bevy::render::{ExtractSchedule, RenderApp};
 use clothbake::scene::{Light, Scene};
-use clothbake_bevy::{ClothMaterial, ClothPlugin, ClothTable, cloth_mesh};
+use clothbake_bevy::{ClothMaterial, ClothPlugin, ClothTable, cloth_mesh, environment_cubemap};
 
 #[derive(Resource)]
 struct Options {
@@ -103,7 +107,13 @@ fn main() -> AppExit {
         .add_systems(Startup, setup)
         .add_systems(
             Update,
-            (choose_fabric, orbit_camera, move_light, count_frames),
+            (
+                choose_fabric,
+                orbit_camera,
+                move_light,
+                toggle_environment,
+                count_frames,
+            ),
         )
         .run()
 }
@@ -115,10 +125,15 @@ fn usage(problem: &str) -> AppExit {
     AppExit::error()
 }
 
+/// Environment samples per fragment: a quarter of `clothbake render`'s, to keep frames quick
+/// on CPU renderers.
+const ENVIRONMENT_SAMPLES: u32 = 16;
+
 fn setup(
     mut commands: Commands,
     options: Res<Options>,
     assets: Res<AssetServer>,
+    mut images: ResMut<Assets<Image>>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<ClothMaterial>>,
 ) {
@@ -136,7 +151,11 @@ fn setup(
     };
     let loaded: Vec<ClothMaterial> = names
         .iter()
-        .map(|name| ClothMaterial::load(&assets, &format!("{name}.exr")))
+        .map(|name| {
+            let mut material = ClothMaterial::load(&assets, &format!("{name}.exr"));
+            material.environment_samples.x = ENVIRONMENT_SAMPLES;
+            material
+        })
         .collect();
     let tables = loaded.iter().map(|m| m.table.clone()).collect();
     let handles: Vec<Handle<ClothMaterial>> =
@@ -149,7 +168,7 @@ fn setup(
     ));
     println!(
         "drape: {} (keys 1–{} or Tab to switch; drag or arrows to orbit; wheel or +/− to zoom; \
-         Space: light; Escape: quit)",
+         Space: light; E: environment; Escape: quit)",
         names[current],
         names.len()
     );
@@ -182,6 +201,7 @@ fn setup(
         },
         // The ACES fit clothbake's renderer uses, and one that needs no lookup-table feature.
         bevy::core_pipeline::tonemapping::Tonemapping::AcesFitted,
+        studio_light(&mut images),
     ));
 
     // The scene's lights in Bevy's units: irradiance E as a directional light's illuminance,
@@ -229,6 +249,20 @@ fn setup(
     }
 }
 
+/// clothbake's built-in studio as the view's environment map light.
+fn studio_light(images: &mut Assets<Image>) -> EnvironmentMapLight {
+    let cubemap = images.add(environment_cubemap(
+        &clothbake::environment::Environment::studio(),
+        128,
+    ));
+    EnvironmentMapLight {
+        diffuse_map: cubemap.clone(),
+        specular_map: cubemap,
+        intensity: 1.0,
+        ..default()
+    }
+}
+
 fn orbit_transform(orbit: &Orbit) -> Transform {
     let offset = Vec3::new(
         orbit.pitch.cos() * orbit.yaw.sin(),
@@ -266,6 +300,28 @@ fn choose_fabric(
             material.0 = fabrics.materials[i].clone();
         }
         println!("drape: {}", fabrics.names[i]);
+    }
+}
+
+fn toggle_environment(
+    mut commands: Commands,
+    keys: Res<ButtonInput<KeyCode>>,
+    mut images: ResMut<Assets<Image>>,
+    cameras: Query<(Entity, Has<EnvironmentMapLight>), With<Camera3d>>,
+) {
+    if !keys.just_pressed(KeyCode::KeyE) {
+        return;
+    }
+    for (camera, lit) in &cameras {
+        if lit {
+            commands.entity(camera).remove::<EnvironmentMapLight>();
+        } else {
+            commands.entity(camera).insert(studio_light(&mut images));
+        }
+        println!(
+            "drape: environment light {}",
+            if lit { "off" } else { "on" }
+        );
     }
 }
 

@@ -8,9 +8,11 @@
 // along the mesh's UV tangent, b = n × t, n), flipped to the side facing the viewer (two-sided
 // cloth); wi and wo in that frame; radiance L = Σ E·F(wi, wo)·shadow over Bevy's directional
 // and point lights, plus the ambient light L_a times the directional albedo ∫F dwi at wo (exact
-// for a uniform ambient radiance). E in Bevy's units: a directional light's illuminance (lux),
-// a point light's luminous intensity (power/4π) times Bevy's inverse-square falloff with its
-// range window. Then the camera's exposure, and tone mapping where Bevy does it in the shader.
+// for a uniform ambient radiance), plus the view's environment map light by filtered
+// importance sampling with the fabric's sampler, as `clothbake render` does. E in Bevy's
+// units: a directional light's illuminance (lux), a point light's luminous intensity
+// (power/4π) times Bevy's inverse-square falloff with its range window. Then the camera's
+// exposure, and tone mapping where Bevy does it in the shader.
 
 #import bevy_pbr::{
     forward_io::VertexOutput,
@@ -25,6 +27,13 @@
 #endif
 
 // CLOTHBAKE_TABLE_LOOKUP
+
+// The fabric's sampler (`clothbake::sampling::Sampler::data`, built from the table) and the
+// environment samples per fragment (x).
+@group(#{MATERIAL_BIND_GROUP}) @binding(9) var<storage, read> sampling_data: array<f32>;
+@group(#{MATERIAL_BIND_GROUP}) @binding(10) var<uniform> cloth_environment_samples: vec4<u32>;
+
+// CLOTHBAKE_SAMPLING
 
 // The directional albedo ∫F dwi (RGB) over wo in the cloth frame
 // (`clothbake::sampling::AlbedoMap`): x = azimuth/2π from thread 1, y = (elevation/(π/2))^(2/3)
@@ -52,6 +61,50 @@ fn cloth_perpendicular(n: vec3<f32>) -> vec3<f32> {
     return normalize(a - n * dot(n, a));
 }
 
+#ifdef ENVIRONMENT_MAP
+// `v` rotated by the unit quaternion `q` (xyz, w).
+fn cloth_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
+    let t = 2.0 * cross(q.xyz, v);
+    return v + q.w * t + cross(q.xyz, t);
+}
+
+// ∫ L_env(wi) F(wi, wo) dwi over the view's environment map light by filtered importance
+// sampling (shaders/render.wgsl's `render_environment_light`, on a cubemap): K draws of the
+// fabric's sampler from one Hammersley set, each read at the mip level whose texels cover the
+// sample's solid angle 1/(K·pdf): lod = ½·log2(1/(K·pdf·Ωp)), Ωp = 4π/(6W²) the mean texel
+// of a W × W face. Bevy's maps are prefiltered for GGX roughness rather than box-filtered,
+// so their coarser levels blur more than the lod assumes.
+fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    let probes = view_bindings::light_probes;
+    if probes.view_cubemap_index < 0 {
+        return vec3<f32>(0.0);
+    }
+#ifdef MULTIPLE_LIGHT_PROBES_IN_ARRAY
+    let map = view_bindings::specular_environment_maps[probes.view_cubemap_index];
+#else
+    let map = view_bindings::specular_environment_map;
+#endif
+    let count = cloth_environment_samples.x;
+    let width = f32(textureDimensions(map).x);
+    let texel = 12.5663706 / (6.0 * width * width);
+    let top = f32(textureNumLevels(map) - 1u);
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < count; k++) {
+        let s = sampling_sample(wo, sampling_hammersley(k, count));
+        if s.w <= 0.0 {
+            continue;
+        }
+        // World direction, rotated as Bevy rotates the view's map; cubemaps are left-handed.
+        var d = cloth_rotate(probes.view_rotation, t * s.x + b * s.y + n * s.z);
+        d.z = -d.z;
+        let lod = clamp(0.5 * log2(1.0 / (f32(count) * s.w * texel)), 0.0, top);
+        let radiance = textureSampleLevel(map, view_bindings::environment_map_sampler, d, lod).rgb;
+        sum += radiance * cloth_brdf(s.xyz, wo) / s.w;
+    }
+    return sum * (probes.intensity_for_view / f32(max(count, 1u)));
+}
+#endif
+
 @fragment
 fn fragment(in: VertexOutput) -> @location(0) vec4<f32> {
     let view = view_bindings::view;
@@ -78,6 +131,11 @@ fn fragment(in: VertexOutput) -> @location(0) vec4<f32> {
     let wo = vec3<f32>(dot(to_eye, t), dot(to_eye, b), dot(to_eye, n));
 
     var radiance = view_bindings::lights.ambient_color.rgb * cloth_ambient_albedo(wo);
+#ifdef ENVIRONMENT_MAP
+    if wo.z > 0.0 {
+        radiance += cloth_environment_light(t, b, n, wo);
+    }
+#endif
 
     let view_z = dot(vec4<f32>(
         view.view_from_world[0].z,

@@ -25,19 +25,24 @@
 //!   table's textures, its directional albedo map and a fragment shader with the table's
 //!   specialised WGSL lookup.
 //! - [`ClothMaterial`] binds them; its fragment shader sums F(wi, wo)·E over Bevy's
-//!   directional and point lights (shadows included) and adds the ambient light times the
-//!   directional albedo. See the README's "Use in Bevy" for what is and is not supported.
+//!   directional and point lights (shadows included), adds the ambient light times the
+//!   directional albedo, and the view's environment map light by filtered importance
+//!   sampling with the fabric's sampler. See the README's "Use in Bevy" for what is and is not supported.
+//! - [`environment_cubemap`] turns a clothbake environment map (the studio, or an
+//!   equirectangular `.hdr`/`.exr`) into a cubemap for Bevy's `EnvironmentMapLight`.
 //! - [`cloth_mesh`] turns a clothbake mesh (procedural drape, curtain, plane, or an OBJ) into
 //!   a Bevy mesh with the thread frame in its tangents.
 //!
 //! The crate depends on clothbake's core only (`default-features = false`): one wgpu in the
 //! build, Bevy's.
 
+mod environment;
 mod material;
 mod mesh;
 mod table_asset;
 
-pub use material::{ClothMaterial, ClothMaterialKey};
+pub use environment::environment_cubemap;
+pub use material::{ClothMaterial, ClothMaterialKey, DEFAULT_ENVIRONMENT_SAMPLES};
 pub use mesh::cloth_mesh;
 pub use table_asset::{ALBEDO_SAMPLES, ClothTable, ClothTableError, ClothTableLoader};
 

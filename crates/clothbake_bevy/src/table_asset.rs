@@ -10,6 +10,7 @@
 //! |---|---|---|
 //! | `binding4` … `binding7` | [`Image`] | the layout's textures at those bindings (`TableLookup::textures`), f16; a 1-texel stand-in where the layout has none |
 //! | `albedo` | [`Image`] | the directional albedo ∫F dwi over wo (`clothbake::sampling::AlbedoMap`), for ambient light |
+//! | `sampling` | [`ShaderBuffer`] | the fabric's importance sampler built from the table (`clothbake::sampling::Sampler::data`), for environment map light |
 //! | `shader` | [`Shader`] | `cloth_material.wgsl` with the table's specialised lookup |
 
 use bevy::asset::io::Reader;
@@ -19,9 +20,12 @@ use bevy::prelude::*;
 use bevy::render::render_resource::{
     Extent3d, TextureDimension, TextureFormat, TextureViewDescriptor, TextureViewDimension,
 };
+use bevy::render::storage::ShaderBuffer;
 use bevy::shader::Shader;
 use bevy::tasks::futures_lite::AsyncReadExt;
-use clothbake::sampling::{ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap, Sampler};
+use clothbake::sampling::{
+    ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap, SAMPLING_WGSL, Sampler,
+};
 use clothbake::table::TextureData;
 use clothbake::table::wgsl::lookup_wgsl_in_group;
 use clothbake::table_file::{MAX_TABLE_FILE_BYTES, TableFileError, read_table_bytes};
@@ -29,6 +33,8 @@ use clothbake::table_file::{MAX_TABLE_FILE_BYTES, TableFileError, read_table_byt
 /// The fragment shader template; the loader puts the table's lookup at this marker line.
 const TEMPLATE: &str = include_str!("cloth_material.wgsl");
 const LOOKUP_MARKER: &str = "// CLOTHBAKE_TABLE_LOOKUP";
+/// … and the sampler's constants and WGSL at this one.
+const SAMPLING_MARKER: &str = "// CLOTHBAKE_SAMPLING";
 
 /// The table bindings a layout may use (`clothbake::table::TableLookup::textures`): 3D
 /// textures at 4 and 5, 2D array textures at 6 and 7.
@@ -55,6 +61,8 @@ pub struct ClothTable {
     pub textures: [Handle<Image>; 4],
     /// The directional albedo map (binding 8).
     pub albedo: Handle<Image>,
+    /// The fabric's sampler (binding 9).
+    pub sampling: Handle<ShaderBuffer>,
     /// The fragment shader with this table's lookup.
     pub shader: Handle<Shader>,
 }
@@ -128,12 +136,27 @@ impl AssetLoader for ClothTableLoader {
             ALBEDO_SAMPLES,
         );
         let albedo = load_context.add_labeled_asset("albedo", albedo_image(&albedo));
-
-        let source = TEMPLATE.replacen(
-            LOOKUP_MARKER,
-            &lookup_wgsl_in_group(table, "#{MATERIAL_BIND_GROUP}"),
-            1,
+        let data: Vec<u8> = sampler
+            .data()
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        let sampling = load_context.add_labeled_asset(
+            "sampling",
+            ShaderBuffer::new(&data, RenderAssetUsages::RENDER_WORLD),
         );
+
+        let source = TEMPLATE
+            .replacen(
+                LOOKUP_MARKER,
+                &lookup_wgsl_in_group(table, "#{MATERIAL_BIND_GROUP}"),
+                1,
+            )
+            .replacen(
+                SAMPLING_MARKER,
+                &(Sampler::wgsl_constants() + SAMPLING_WGSL),
+                1,
+            );
         let shader = load_context.add_labeled_asset(
             "shader",
             Shader::from_wgsl(source, format!("{path}#shader")),
@@ -145,6 +168,7 @@ impl AssetLoader for ClothTableLoader {
             resolution: table.resolution,
             textures: textures.try_into().expect("one handle per binding"),
             albedo,
+            sampling,
             shader,
         })
     }
