@@ -16,9 +16,9 @@ use bevy::render::render_resource::{
 use bevy::render::storage::ShaderBuffer;
 use bevy::shader::{Shader, ShaderRef};
 
-/// What [`ClothMaterial::fragment_shader`] names: a stand-in that `specialize` replaces by the
-/// table's shader. It is only compiled if a pipeline is built before a table's shader exists,
-/// and then draws magenta.
+/// What [`ClothMaterial::fragment_shader`] names: a stand-in that `specialize` always replaces
+/// by the table's shader (the pipeline cache waits for that shader to load). It draws magenta,
+/// should a pipeline ever be built with it.
 pub(crate) const PLACEHOLDER_SHADER: Handle<Shader> =
     uuid_handle!("5d1c3a4e-8f0b-4c6e-9a7d-2b3e4f5a6c7d");
 
@@ -35,8 +35,8 @@ pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 64;
 
 /// Cloth shaded by a clothbake table: F(wi, wo) of the table's fabric under Bevy's
 /// directional and point lights (with their shadows), its ambient light and the view's
-/// environment map light, in the thread
-/// frame of the mesh's UV tangents (thread 1 along u; meshes need `Mesh::ATTRIBUTE_TANGENT`).
+/// environment map light, in the thread frame of the mesh's UV tangents (thread 1 along u;
+/// meshes need `Mesh::ATTRIBUTE_TANGENT`).
 ///
 /// Bindings in the material's group: the table's sampler (3), its textures (4–7), the
 /// directional albedo map (8), the fabric's importance sampler (9), all sub-assets of one
