@@ -20,8 +20,11 @@ use bevy::render::extract_plugin::MainWorld;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 use bevy::render::{ExtractSchedule, RenderApp};
-use clothbake::scene::{Light, Scene};
-use clothbake_bevy::{ClothMaterial, ClothPlugin, ClothTable, cloth_mesh, environment_cubemap};
+use clothbake::scene::Scene;
+use clothbake_bevy::{
+    ClothMaterial, ClothPlugin, ClothTable, SceneLight, cloth_mesh, environment_cubemap,
+    scene_light,
+};
 
 #[derive(Resource)]
 struct Options {
@@ -204,24 +207,15 @@ fn setup(
         studio_light(&mut images),
     ));
 
-    // The scene's lights in Bevy's units: irradiance E as a directional light's illuminance,
-    // a point light's E·d² (intensity I) as luminous power 4π·I.
+    // The scene's lights, casting shadows.
     for light in &scene.lights {
-        match *light {
-            Light::Directional {
-                direction,
-                color,
-                irradiance,
-            } => {
-                let d = Vec3::from_array(direction.map(|v| v as f32)).normalize();
+        match scene_light(light) {
+            SceneLight::Directional(mut light, transform) => {
+                light.shadow_maps_enabled = true;
+                let d = transform.back();
                 commands.spawn((
-                    DirectionalLight {
-                        color: Color::linear_rgb(color[0] as f32, color[1] as f32, color[2] as f32),
-                        illuminance: irradiance as f32,
-                        shadow_maps_enabled: true,
-                        ..default()
-                    },
-                    Transform::default().looking_to(-d, Vec3::Y),
+                    light,
+                    transform,
                     MovingLight {
                         running: true,
                         angle: d.z.atan2(d.x),
@@ -229,21 +223,9 @@ fn setup(
                     },
                 ));
             }
-            Light::Point {
-                position,
-                color,
-                intensity,
-            } => {
-                commands.spawn((
-                    PointLight {
-                        color: Color::linear_rgb(color[0] as f32, color[1] as f32, color[2] as f32),
-                        intensity: 4.0 * std::f32::consts::PI * intensity as f32,
-                        range: 100.0,
-                        shadow_maps_enabled: true,
-                        ..default()
-                    },
-                    Transform::from_translation(Vec3::from_array(position.map(|v| v as f32))),
-                ));
+            SceneLight::Point(mut light, transform) => {
+                light.shadow_maps_enabled = true;
+                commands.spawn((light, transform));
             }
         }
     }

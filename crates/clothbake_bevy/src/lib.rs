@@ -30,6 +30,7 @@
 //!   sampling with the fabric's sampler. See the README's "Use in Bevy" for what is and is not supported.
 //! - [`environment_cubemap`] turns a clothbake environment map (the studio, or an
 //!   equirectangular `.hdr`/`.exr`) into a cubemap for Bevy's `EnvironmentMapLight`.
+//! - [`scene_light`] turns a clothbake scene light into a Bevy light in Bevy's units.
 //! - [`cloth_mesh`] turns a clothbake mesh (procedural drape, curtain, plane, or an OBJ) into
 //!   a Bevy mesh with the thread frame in its tangents.
 //!
@@ -37,11 +38,13 @@
 //! build, Bevy's.
 
 mod environment;
+mod lights;
 mod material;
 mod mesh;
 mod table_asset;
 
 pub use environment::environment_cubemap;
+pub use lights::{POINT_LIGHT_RANGE, SceneLight, scene_light};
 pub use material::{ClothMaterial, ClothMaterialKey, DEFAULT_ENVIRONMENT_SAMPLES};
 pub use mesh::cloth_mesh;
 pub use table_asset::{ALBEDO_SAMPLES, ClothTable, ClothTableError, ClothTableLoader};

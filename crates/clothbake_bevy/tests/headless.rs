@@ -25,8 +25,10 @@ use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::renderer::RenderAdapterInfo;
-use clothbake::scene::{Light, Scene};
-use clothbake_bevy::{ClothMaterial, ClothTable, cloth_mesh, environment_cubemap};
+use clothbake::scene::Scene;
+use clothbake_bevy::{
+    ClothMaterial, ClothTable, SceneLight, cloth_mesh, environment_cubemap, scene_light,
+};
 mod common;
 use common::{bake_tables, headless_app, scratch, workspace};
 
@@ -217,10 +219,6 @@ fn read_exr(path: &Path) -> Vec<[f32; 4]> {
     image.layer_data.channel_data.pixels
 }
 
-fn color(rgb: [f64; 3]) -> Color {
-    Color::linear_rgb(rgb[0] as f32, rgb[1] as f32, rgb[2] as f32)
-}
-
 /// What the app's readback observer deposits.
 type Deposit = Arc<Mutex<Option<Vec<[f32; 4]>>>>;
 
@@ -303,51 +301,20 @@ fn bevy_render(scene: &Scene, tables: &Path, case: &'static Case) -> (Vec<[f32; 
                         ..default()
                     });
                 }
-                // The scene's light in Bevy's units: a directional light's illuminance is the
-                // irradiance E; a point light of intensity I (irradiance I/d²) has luminous
-                // power 4π·I, and a range far beyond the scene so that Bevy's range window
-                // (1 − (d/range)⁴)² is 1 within 1e-6.
+                // The scene's light in Bevy's units (`scene_light`), without shadows, as
+                // `clothbake render` has none.
                 let lights = Scene::parse(&scene_text(case.lighting))
                     .expect("scene")
                     .lights;
                 let light = lights.first().filter(|_| {
                     !matches!(case.lighting, Lighting::Ambient | Lighting::Environment)
                 });
-                match light {
-                    Some(&Light::Directional {
-                        direction,
-                        color: rgb,
-                        irradiance,
-                    }) => {
-                        let to_light = Vec3::from_array(direction.map(|v| v as f32)).normalize();
-                        commands.spawn((
-                            DirectionalLight {
-                                color: color(rgb),
-                                illuminance: irradiance as f32,
-                                shadow_maps_enabled: false,
-                                ..default()
-                            },
-                            Transform::default().looking_to(-to_light, Vec3::Y),
-                        ));
+                match light.map(scene_light) {
+                    Some(SceneLight::Directional(light, transform)) => {
+                        commands.spawn((light, transform));
                     }
-                    Some(&Light::Point {
-                        position,
-                        color: rgb,
-                        intensity,
-                    }) => {
-                        commands.spawn((
-                            PointLight {
-                                color: color(rgb),
-                                intensity: 4.0 * std::f32::consts::PI * intensity as f32,
-                                range: 100.0,
-                                radius: 0.0,
-                                shadow_maps_enabled: false,
-                                ..default()
-                            },
-                            Transform::from_translation(Vec3::from_array(
-                                position.map(|v| v as f32),
-                            )),
-                        ));
+                    Some(SceneLight::Point(light, transform)) => {
+                        commands.spawn((light, transform));
                     }
                     None => {}
                 }

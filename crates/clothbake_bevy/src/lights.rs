@@ -1,0 +1,54 @@
+//! clothbake scene lights as Bevy lights.
+
+use bevy::prelude::*;
+use clothbake::scene::Light;
+
+/// A clothbake scene light ([`clothbake::scene::Light`]) as a Bevy light and its transform.
+pub enum SceneLight {
+    Directional(DirectionalLight, Transform),
+    Point(PointLight, Transform),
+}
+
+/// Bevy's point-light range for scene lights: far beyond any scene, so that Bevy's range
+/// window (1 − (d/range)⁴)² is 1 within 1e-6 where the cloth is.
+pub const POINT_LIGHT_RANGE: f32 = 100.0;
+
+/// `light` in Bevy's units, without shadows (set `shadow_maps_enabled` to cast them). A
+/// directional light of perpendicular irradiance E is a `DirectionalLight` of illuminance E;
+/// a point light of intensity I (irradiance I/d²) is a `PointLight` of luminous power 4π·I
+/// (Bevy divides power by 4π), of radius 0 and range [`POINT_LIGHT_RANGE`]. Under Bevy's
+/// exposure 1 (ev100 = −log2 1.2) the cloth's radiance is then `clothbake render`'s.
+pub fn scene_light(light: &Light) -> SceneLight {
+    let vector = |v: [f64; 3]| Vec3::from_array(v.map(|x| x as f32));
+    let color = |c: [f64; 3]| Color::linear_rgb(c[0] as f32, c[1] as f32, c[2] as f32);
+    match *light {
+        Light::Directional {
+            direction,
+            color: rgb,
+            irradiance,
+        } => SceneLight::Directional(
+            DirectionalLight {
+                color: color(rgb),
+                illuminance: irradiance as f32,
+                shadow_maps_enabled: false,
+                ..default()
+            },
+            Transform::default().looking_to(-vector(direction).normalize(), Vec3::Y),
+        ),
+        Light::Point {
+            position,
+            color: rgb,
+            intensity,
+        } => SceneLight::Point(
+            PointLight {
+                color: color(rgb),
+                intensity: 4.0 * std::f32::consts::PI * intensity as f32,
+                range: POINT_LIGHT_RANGE,
+                radius: 0.0,
+                shadow_maps_enabled: false,
+                ..default()
+            },
+            Transform::from_translation(vector(position)),
+        ),
+    }
+}
