@@ -142,11 +142,25 @@ pub(crate) fn invert_cdf(cdf: &[f32], u: f64) -> (usize, f64) {
     (k, rescaled.clamp(0.0, 1.0 - f64::EPSILON / 2.0))
 }
 
+/// The elevation (radians) of row `i` of `rows` on the grids over wo (the sampler's nodes,
+/// the albedo map's rows): 90°·(i/(rows − 1))^1.5, dense at the horizon where F changes
+/// fastest, row 0 at [`GRAZING_NODE_DEG`] because F is 0 at exactly 0°.
+fn grid_elevation(i: usize, rows: usize) -> f64 {
+    (90.0 * (i as f64 / (rows - 1) as f64).powf(1.5))
+        .max(GRAZING_NODE_DEG)
+        .to_radians()
+}
+
+/// The inverse of [`grid_elevation`]: `wo`'s fractional row on a grid of `rows`, in
+/// [0, rows − 1].
+fn grid_row(wo: DVec3, rows: usize) -> f64 {
+    ((elevation_of(wo) / FRAC_PI_2).max(0.0).powf(2.0 / 3.0) * (rows - 1) as f64)
+        .clamp(0.0, (rows - 1) as f64)
+}
+
 /// The four nodes around `wo` and their bilinear weights (node index, weight).
 fn node_weights(wo: DVec3) -> [(usize, f64); 4] {
-    let x = ((elevation_of(wo) / FRAC_PI_2).max(0.0).powf(2.0 / 3.0)
-        * (ELEVATION_NODES - 1) as f64)
-        .clamp(0.0, (ELEVATION_NODES - 1) as f64);
+    let x = grid_row(wo, ELEVATION_NODES);
     let i0 = (x.floor() as usize).min(ELEVATION_NODES - 2);
     let fx = x - i0 as f64;
     let y = azimuth_of(wo) / TAU * AZIMUTH_NODES as f64;
@@ -184,9 +198,7 @@ impl Sampler {
             .into_par_iter()
             .map(|n| {
                 let (i, j) = (n / AZIMUTH_NODES, n % AZIMUTH_NODES);
-                let elevation = (90.0 * (i as f64 / (ELEVATION_NODES - 1) as f64).powf(1.5))
-                    .max(GRAZING_NODE_DEG)
-                    .to_radians();
+                let elevation = grid_elevation(i, ELEVATION_NODES);
                 let wo = direction(elevation, j as f64 * TAU / AZIMUTH_NODES as f64);
                 Self::build_node(&f, wo)
             })
@@ -465,9 +477,7 @@ impl AlbedoMap {
             .into_par_iter()
             .map(|n| {
                 let (i, j) = (n / ALBEDO_MAP_AZIMUTHS, n % ALBEDO_MAP_AZIMUTHS);
-                let elevation = (90.0 * (i as f64 / (ALBEDO_MAP_ELEVATIONS - 1) as f64).powf(1.5))
-                    .max(GRAZING_NODE_DEG)
-                    .to_radians();
+                let elevation = grid_elevation(i, ALBEDO_MAP_ELEVATIONS);
                 let azimuth = TAU * j as f64 / (ALBEDO_MAP_AZIMUTHS - 1) as f64;
                 let (albedo, sigma) =
                     directional_albedo(sampler, &f, direction(elevation, azimuth), samples);
@@ -483,9 +493,7 @@ impl AlbedoMap {
     /// The map's bilinear interpolation at `wo` (unit, wo.z ≥ 0), as a GPU's clamped
     /// bilinear fetch of the map as a texture reads it.
     pub fn at(&self, wo: DVec3) -> DVec3 {
-        let y = ((elevation_of(wo) / FRAC_PI_2).max(0.0).powf(2.0 / 3.0)
-            * (ALBEDO_MAP_ELEVATIONS - 1) as f64)
-            .clamp(0.0, (ALBEDO_MAP_ELEVATIONS - 1) as f64);
+        let y = grid_row(wo, ALBEDO_MAP_ELEVATIONS);
         let x = azimuth_of(wo) / TAU * (ALBEDO_MAP_AZIMUTHS - 1) as f64;
         let (i0, j0) = (
             (y as usize).min(ALBEDO_MAP_ELEVATIONS - 2),
