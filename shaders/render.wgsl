@@ -129,9 +129,8 @@ fn render_environment_uv(d: vec3<f32>) -> vec2<f32> {
 // 3, ch. 20): K directions from the fabric's sampler, one Hammersley set shared by every
 // pixel (the error is a smooth bias, not noise), each weighted by F/pdf and read from the
 // mip level whose texels cover the solid angle the sample stands for, Ωs = 1/(K·pdf):
-// lod = ½·log2(Ωs/Ωp), Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the sample's polar angle
-// θ. Without the original's +1: measured against the CPU reference (README, "Environment
-// light"), +1 blurs cloth's narrow cone-shaped lobes too much, and −1 or −2 alias.
+// lod = ½·log2(Ωs/Ωp) (`sampling_lod`), Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the
+// sample's polar angle θ.
 fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
     let count = render_frame.counts.y;
     let size = render_frame.environment;
@@ -144,7 +143,7 @@ fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
         let world = f.t * s.x + f.b * s.y + f.n * s.z;
         let sin_theta = sqrt(max(1.0 - world.y * world.y, 1e-8));
         let texel = (6.2831853 / size.x) * (3.14159265 / size.y) * sin_theta;
-        let lod = clamp(0.5 * log2(1.0 / (f32(count) * s.w * texel)), 0.0, size.z - 1.0);
+        let lod = clamp(sampling_lod(count, s.w, texel), 0.0, size.z - 1.0);
         let radiance = textureSampleLevel(
             render_environment,
             render_environment_sampler,

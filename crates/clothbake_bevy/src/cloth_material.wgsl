@@ -71,8 +71,8 @@ fn cloth_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
 // ∫ L_env(wi) F(wi, wo) dwi over the view's environment map light by filtered importance
 // sampling (shaders/render.wgsl's `render_environment_light`, on a cubemap): K draws of the
 // fabric's sampler from one Hammersley set, each read at the mip level whose texels cover the
-// sample's solid angle 1/(K·pdf): lod = ½·log2(1/(K·pdf·Ωp)), Ωp = 4π/(6W²) the mean texel
-// of a W × W face. Bevy's maps are prefiltered for GGX roughness rather than box-filtered,
+// sample's solid angle 1/(K·pdf) (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a W × W
+// face. Bevy's maps are prefiltered for GGX roughness rather than box-filtered,
 // so their coarser levels blur more than the lod assumes.
 fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     let probes = view_bindings::light_probes;
@@ -97,7 +97,7 @@ fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f3
         // World direction, rotated as Bevy rotates the view's map; cubemaps are left-handed.
         var d = cloth_rotate(probes.view_rotation, t * s.x + b * s.y + n * s.z);
         d.z = -d.z;
-        let lod = clamp(0.5 * log2(1.0 / (f32(count) * s.w * texel)), 0.0, top);
+        let lod = clamp(sampling_lod(count, s.w, texel), 0.0, top);
         let radiance = textureSampleLevel(map, view_bindings::environment_map_sampler, d, lod).rgb;
         sum += radiance * cloth_brdf(s.xyz, wo) / s.w;
     }
