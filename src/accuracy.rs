@@ -4,7 +4,7 @@
 use crate::direction_sets::{highlight_pairs, uniform_pairs};
 use crate::model::{Fabric, Integration, Patch};
 use crate::table::Table;
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
 /// Seeds of the validation sets; fixed so every `check` measures the same pairs.
@@ -130,4 +130,16 @@ pub fn measure(table: &Table, fabric: &Fabric, count: usize) -> TableError {
 /// [`Table::lookup_f32`] on f64 directions (rounded to f32 as a renderer passes them).
 pub fn lookup_f32(table: &Table, wi: DVec3, wo: DVec3) -> DVec3 {
     table.lookup_f32(wi.as_vec3(), wo.as_vec3()).as_dvec3()
+}
+
+/// The sum of [`Table::lookup_batch`] over `pairs` given in f64 (rounded to f32 as a
+/// renderer passes them): what the report times as a table's cost.
+pub fn lookup_batch_sum(table: &Table, pairs: &[(DVec3, DVec3)]) -> DVec3 {
+    let pairs: Vec<(Vec3, Vec3)> = pairs
+        .iter()
+        .map(|&(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
+        .collect();
+    let mut out = vec![Vec3::ZERO; pairs.len()];
+    table.lookup_batch(&pairs, &mut out);
+    out.iter().map(|f| f.as_dvec3()).sum()
 }

@@ -31,7 +31,7 @@ pub mod markdown;
 pub mod plots;
 pub mod timing;
 
-use crate::accuracy::{Reference, TableError, lookup_f32};
+use crate::accuracy::{Reference, TableError, lookup_batch_sum, lookup_f32};
 use crate::bake::{BakeError, bake};
 use crate::direction_sets::{highlight_pairs, uniform_pairs};
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
@@ -40,7 +40,7 @@ use glam::DVec3;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-use timing::{BakeTiming, EvalTiming, time_interleaved, time_repeated};
+use timing::{BakeTiming, EvalTiming, pair_by_pair, time_interleaved, time_repeated};
 
 /// Seed of the pair set every CPU timing evaluates (uniform over the hemisphere pair), apart
 /// from the validation seeds so that timing and error sets are independent.
@@ -231,8 +231,9 @@ pub struct TablePoint {
     /// Bytes of f16 texel data.
     pub bytes: usize,
     pub error: TableError,
-    /// `Table::lookup_f32` (the fast CPU path, RGB with the albedos applied) on one thread,
-    /// directions converted from f64 to f32 inside the timed call.
+    /// `Table::lookup_batch` (the fast CPU path, eight pairs' coordinates at a time, RGB
+    /// with the albedos applied) on one thread over the timing pairs, directions converted
+    /// from f64 to f32 inside the timed call.
     pub lookup: EvalTiming,
     /// The bake on all worker threads of the report's pool.
     pub bake: BakeTiming,
@@ -571,18 +572,20 @@ fn measure_fabric(
 
     let pairs = uniform_pairs(config.timing_pairs, TIMING_SEED);
     let direct_patch = Patch::new(fabric, Integration::Direct);
-    let direct_eval = |wi, wo| direct_patch.eval(wi, wo);
-    let paper_evals: Vec<Box<dyn Fn(DVec3, DVec3) -> DVec3 + '_>> = papers
+    let direct_eval = pair_by_pair(|wi, wo| direct_patch.eval(wi, wo));
+    let paper_evals: Vec<timing::BoxedEval> = papers
         .iter()
-        .map(|(_, patch, _)| Box::new(move |wi, wo| patch.eval(wi, wo)) as Box<_>)
+        .map(|(_, patch, _)| Box::new(pair_by_pair(|wi, wo| patch.eval(wi, wo))) as Box<_>)
         .collect();
-    let resonant_evals: Vec<Box<dyn Fn(DVec3, DVec3) -> DVec3 + '_>> = resonants
+    let resonant_evals: Vec<timing::BoxedEval> = resonants
         .iter()
-        .map(|(_, patch, _, _)| Box::new(move |wi, wo| patch.eval(wi, wo)) as Box<_>)
+        .map(|(_, patch, _, _)| Box::new(pair_by_pair(|wi, wo| patch.eval(wi, wo))) as Box<_>)
         .collect();
-    let table_evals: Vec<Box<dyn Fn(DVec3, DVec3) -> DVec3 + '_>> = tables
+    let table_evals: Vec<timing::BoxedEval> = tables
         .iter()
-        .map(|(table, _, _)| Box::new(move |wi, wo| lookup_f32(table, wi, wo)) as Box<_>)
+        .map(|(table, _, _)| {
+            Box::new(move |pairs: &[(DVec3, DVec3)]| lookup_batch_sum(table, pairs)) as Box<_>
+        })
         .collect();
     let evals: Vec<timing::Eval> = std::iter::once(&direct_eval as timing::Eval)
         .chain(paper_evals.iter().map(|e| &**e as timing::Eval))

@@ -38,8 +38,24 @@ pub fn median(values: &[f64]) -> f64 {
     crate::render::median(values).unwrap_or(f64::NAN)
 }
 
-/// An evaluation to time: F(wi, wo) by some estimator.
-pub type Eval<'a> = &'a dyn Fn(DVec3, DVec3) -> DVec3;
+/// An evaluation to time: F(wi, wo) by some estimator over every pair of a slice, summed
+/// (so that nothing can be optimised away). A pass over the whole slice, rather than one
+/// call per pair, lets an estimator use its batch entry point (the table lookups'
+/// `Table::lookup_batch`).
+pub type Eval<'a> = &'a dyn Fn(&[(DVec3, DVec3)]) -> DVec3;
+
+/// An owned [`Eval`].
+pub type BoxedEval<'a> = Box<dyn Fn(&[(DVec3, DVec3)]) -> DVec3 + 'a>;
+
+/// An [`Eval`] calling `eval` pair by pair.
+pub fn pair_by_pair(eval: impl Fn(DVec3, DVec3) -> DVec3) -> impl Fn(&[(DVec3, DVec3)]) -> DVec3 {
+    move |pairs| {
+        pairs
+            .iter()
+            .map(|&(wi, wo)| eval(black_box(wi), black_box(wo)))
+            .sum()
+    }
+}
 
 /// Times each of `evals` over `pairs` on the calling thread, interleaved: one untimed
 /// warm-up pass of each, then `samples` rounds in which every evaluation takes one sample.
@@ -53,12 +69,7 @@ pub fn time_interleaved(
     min_sample: Duration,
     evals: &[Eval],
 ) -> Vec<EvalTiming> {
-    let pass = |eval: Eval| {
-        pairs
-            .iter()
-            .map(|&(wi, wo)| eval(black_box(wi), black_box(wo)))
-            .sum::<DVec3>()
-    };
+    let pass = |eval: Eval| eval(black_box(pairs));
     let passes: Vec<usize> = evals
         .iter()
         .map(|&eval| {

@@ -7,6 +7,8 @@
 //! (GPU: `(x·N + ½)/N`, repeat addressing). `x ∈ [0, 1]` is the warped coordinate of the
 //! value `v` (see [`Warp`]).
 
+use super::fast_math::Lanes;
+
 /// The map between an axis value v and its unit coordinate x ∈ [0, 1].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Warp {
@@ -155,30 +157,32 @@ impl AxisF32 {
         }
     }
 
-    /// [`Axis::locate`] in f32.
+    /// [`Axis::locate`] in f32, lane by lane: the first texel of the interpolated pair and
+    /// the fraction towards the next.
     #[inline(always)]
-    pub fn locate(&self, v: f32) -> (usize, f32) {
+    pub fn locate<L: Lanes>(&self, v: L) -> (L::Indices, L::Values) {
+        let splat = L::splat;
         let g = match self.warp {
-            WarpF32::Linear { lo, scale } => (v - lo) * scale,
+            WarpF32::Linear { lo, scale } => (v - splat(lo)) * splat(scale),
             WarpF32::Knots { vs, gs, slopes } => {
-                let k = if v <= vs[1] {
-                    0
-                } else if v <= vs[2] {
-                    1
-                } else {
-                    2
+                let (first, second) = (v.le(splat(vs[1])), v.le(splat(vs[2])));
+                let pick = |a: [f32; 3]| {
+                    L::select(
+                        first,
+                        splat(a[0]),
+                        L::select(second, splat(a[1]), splat(a[2])),
+                    )
                 };
-                gs[k] + (v - vs[k]) * slopes[k]
+                pick(gs) + (v - pick([vs[0], vs[1], vs[2]])) * pick(slopes)
             }
             WarpF32::SinEnds { c, scale } => {
-                super::fast_math::asin(v * c) * scale + 0.5 * self.last
+                super::fast_math::asin(v * splat(c)) * splat(scale) + splat(0.5 * self.last)
             }
         };
-        let g = g.clamp(0.0, self.last);
-        // g ≥ 0 after the clamp: a plain i32 conversion (Rust's `as usize` from f32
-        // saturates, which costs branches in this hot path).
-        let i0 = (g as i32).min(self.last_pair as i32);
-        (i0 as usize, g - i0 as f32)
+        // g ≥ 0 after the clamp: truncation is the floor.
+        g.max(splat(0.0))
+            .min(splat(self.last))
+            .split_floor(self.last_pair as i32)
     }
 
     /// The WGSL call computing the continuous texel coordinate of `value` on this axis (the

@@ -64,6 +64,13 @@ pub trait LayoutUnit: Sync {
     fn wgsl_source(&self) -> &'static str;
 }
 
+/// Pairs per unit of work of [`Table::lookup_batch`]: eight f32 lanes, one AVX register
+/// (two SSE ones).
+pub const BATCH_LANES: usize = 8;
+
+/// The lanes of a batch lookup's coordinates ([`fast_math::Lanes`]).
+pub type BatchLanes = wide::f32x8;
+
 /// The lookup of one table: the geometry its layout derives from fabric and resolution.
 /// Every method takes the table's planes.
 pub trait TableLookup: Send + Sync + fmt::Debug + Any {
@@ -74,6 +81,17 @@ pub trait TableLookup: Send + Sync + fmt::Debug + Any {
     /// The same terms in f32 with fast approximations of the transcendental functions (see
     /// [`fast_math`] for their error bounds): the lookup to use on a CPU.
     fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3];
+    /// [`Self::terms_f32`] of [`BATCH_LANES`] pairs, bit for bit the same values: the batch
+    /// entry point's unit of work, which a layout overrides where computing the pairs'
+    /// coordinates together pays (the default takes them one by one).
+    fn terms_f32_lanes(
+        &self,
+        planes: &[Plane],
+        wi: &[Vec3; BATCH_LANES],
+        wo: &[Vec3; BATCH_LANES],
+    ) -> [[f32; 3]; BATCH_LANES] {
+        std::array::from_fn(|k| self.terms_f32(planes, wi[k], wo[k]))
+    }
     /// The layout's part of the generated WGSL block: the constants and functions its
     /// WGSL file expects, as literals.
     fn wgsl_constants(&self) -> String;
@@ -364,17 +382,39 @@ impl Table {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return Vec3::ZERO;
         }
-        let [r, t1, t2] = self.lookup.terms_f32(&self.planes, wi, wo);
-        Vec3::splat(r) + self.albedo[0].as_vec3() * t1 + self.albedo[1].as_vec3() * t2
+        self.combine_f32(self.lookup.terms_f32(&self.planes, wi, wo))
     }
 
-    /// [`Self::lookup_f32`] of every pair of `pairs`, into `out` (same length): the batch
-    /// entry point for callers shading many pairs (criterion: the same cost per pair as
-    /// single calls, 204–215 ns for thread_frame).
+    /// [`Self::lookup_f32`] of every pair of `pairs`, into `out` (same length), bit for bit
+    /// the same values: the batch entry point for callers shading many pairs, which computes
+    /// [`BATCH_LANES`] pairs' table coordinates together (in SIMD registers where the
+    /// layout supports it, see [`TableLookup::terms_f32_lanes`]).
     pub fn lookup_batch(&self, pairs: &[(Vec3, Vec3)], out: &mut [Vec3]) {
         assert_eq!(pairs.len(), out.len(), "one output per pair");
-        for (&(wi, wo), f) in pairs.iter().zip(out.iter_mut()) {
+        let mut chunks = pairs.chunks_exact(BATCH_LANES);
+        let mut outs = out.chunks_exact_mut(BATCH_LANES);
+        for (chunk, f) in (&mut chunks).zip(&mut outs) {
+            let (mut wi, mut wo) = ([Vec3::ZERO; BATCH_LANES], [Vec3::ZERO; BATCH_LANES]);
+            for (k, &(i, o)) in chunk.iter().enumerate() {
+                (wi[k], wo[k]) = (i, o);
+            }
+            let terms = self.lookup.terms_f32_lanes(&self.planes, &wi, &wo);
+            for k in 0..BATCH_LANES {
+                f[k] = if wi[k].z <= 0.0 || wo[k].z <= 0.0 {
+                    Vec3::ZERO
+                } else {
+                    self.combine_f32(terms[k])
+                };
+            }
+        }
+        for (&(wi, wo), f) in chunks.remainder().iter().zip(outs.into_remainder()) {
             *f = self.lookup_f32(wi, wo);
         }
+    }
+
+    /// F from the terms (reflection, transmission1, transmission2) with the albedos.
+    #[inline]
+    fn combine_f32(&self, [r, t1, t2]: [f32; 3]) -> Vec3 {
+        Vec3::splat(r) + self.albedo[0].as_vec3() * t1 + self.albedo[1].as_vec3() * t2
     }
 }

@@ -46,9 +46,10 @@
 //! point mass (linen and velvet 0, crepe 3, satin 4, satin back 5, shot silk 3).
 
 use super::axis::AxisF32;
-use super::thread_frame::{self, AxisPlan, ThreadGeometry};
+use super::fast_math::Lanes;
+use super::thread_frame::{self, AxisPlan, LocatedPairs, ThreadGeometry};
 use super::wgsl::{coverage_wgsl, degenerate_threshold, unit_area_gaussian, wgsl_f32, wgsl_vec};
-use super::{LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
+use super::{BATCH_LANES, BatchLanes, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
 use crate::model::curve::{Integration, curve_pieces};
 use crate::model::fabric::TangentSampling;
 use crate::model::patch::ThreadModel;
@@ -319,8 +320,18 @@ impl Geometry {
         sums
     }
 
-    /// [`Self::thread_sums`] in f32 for the table part (the point masses by the f64 model).
-    fn thread_sums_f32(&self, planes: &[Plane], j: usize, wi: Vec3, wo: Vec3) -> [f32; 3] {
+    /// [`Self::thread_sums`] in f32 for the table part (the point masses by the f64 model),
+    /// for pair `k` of the `L::WIDTH` pairs `wi`, `wo`; `located` is where those pairs fall
+    /// in this thread's sloped table, if it has one.
+    #[inline(always)]
+    fn thread_sums_f32<L: Lanes>(
+        &self,
+        planes: &[Plane],
+        j: usize,
+        located: Option<&LocatedPairs<L>>,
+        (wi, wo): (Vec3, Vec3),
+        k: usize,
+    ) -> [f32; 3] {
         let thread = &self.threads[j];
         let mut sums = [0.0; 3];
         if !thread.points.is_empty() {
@@ -329,20 +340,51 @@ impl Geometry {
                 .point_sums(wi.as_dvec3(), wo.as_dvec3(), &thread.points);
             sums = [points.reflection, points.transmission, points.masking].map(|x| x as f32);
         }
-        if let (Some(slopes), Some((table, masking))) = (&thread.slopes, self.planes[j]) {
-            let [r, t, p, cos2_d] = slopes.geometry.sample_f32(
-                &slopes.fast_axes,
-                &planes[table],
-                &planes[masking],
-                wi,
-                wo,
-            );
+        if let (Some(slopes), Some((table, masking)), Some(located)) =
+            (&thread.slopes, self.planes[j], located)
+        {
+            let [r, t, p, cos2_d] =
+                slopes
+                    .geometry
+                    .sample_located(&planes[table], &planes[masking], located, k);
             let p = slopes.weight as f32 * p;
             sums[0] += r * p / cos2_d.max(1e-8);
             sums[1] += t * p;
             sums[2] += p;
         }
         sums
+    }
+
+    /// [`TableLookup::terms_f32`] of `L::WIDTH` pairs, the sloped tables' coordinates
+    /// located for all lanes together.
+    #[inline(always)]
+    fn terms_lanes<L: Lanes, const N: usize>(
+        &self,
+        planes: &[Plane],
+        wi: &[Vec3; N],
+        wo: &[Vec3; N],
+    ) -> [[f32; 3]; N] {
+        let locate = |j: usize| {
+            let slopes = self.threads[j].slopes.as_ref();
+            slopes.map(|s| s.geometry.locate_f32::<L>(&s.fast_axes, wi, wo))
+        };
+        let located = [locate(0), locate(1)];
+        let a = self.coverage.map(|a| a as f32);
+        let mut terms = [[0.0; 3]; N];
+        for (k, terms) in terms.iter_mut().enumerate() {
+            let pair = (wi[k], wo[k]);
+            let sums = |j: usize| self.thread_sums_f32(planes, j, located[j].as_ref(), pair, k);
+            let sums = [sums(0), sums(1)];
+            let q = self.gap as f32 * wo[k].z + a[0] * sums[0][2] + a[1] * sums[1][2];
+            if q > 0.0 {
+                *terms = [
+                    (a[0] * sums[0][0] + a[1] * sums[1][0]) / q,
+                    a[0] * sums[0][1] / q,
+                    a[1] * sums[1][1] / q,
+                ];
+            }
+        }
+        terms
     }
 
     /// `cloth_split_threadJ(wi, wo)`: thread j's sums as [`Self::thread_sums`], in WGSL.
@@ -436,17 +478,16 @@ impl TableLookup for Geometry {
     }
 
     fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3] {
-        let sums = [0, 1].map(|j| self.thread_sums_f32(planes, j, wi, wo));
-        let a = self.coverage.map(|a| a as f32);
-        let q = self.gap as f32 * wo.z + a[0] * sums[0][2] + a[1] * sums[1][2];
-        if q <= 0.0 {
-            return [0.0; 3];
-        }
-        [
-            (a[0] * sums[0][0] + a[1] * sums[1][0]) / q,
-            a[0] * sums[0][1] / q,
-            a[1] * sums[1][1] / q,
-        ]
+        self.terms_lanes::<f32, 1>(planes, &[wi], &[wo])[0]
+    }
+
+    fn terms_f32_lanes(
+        &self,
+        planes: &[Plane],
+        wi: &[Vec3; BATCH_LANES],
+        wo: &[Vec3; BATCH_LANES],
+    ) -> [[f32; 3]; BATCH_LANES] {
+        self.terms_lanes::<BatchLanes, BATCH_LANES>(planes, wi, wo)
     }
 
     fn wgsl_constants(&self) -> String {

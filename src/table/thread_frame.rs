@@ -60,12 +60,15 @@
 //! column βi, row βo. Six filtered fetches per light: two per thread's 4D table, one per
 //! thread's ⟨P⟩.
 
+use super::BatchLanes;
 use super::axis::{Axis, AxisF32, Warp};
-use super::fast_math;
+use super::fast_math::{self, Lanes};
 use super::wgsl::{coverage_wgsl, wgsl_f32};
-use super::{LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, quadrilinear_corners};
+use super::{
+    BATCH_LANES, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, quadrilinear_corners,
+};
 use crate::model::{Fabric, Integration, patch::ThreadModel};
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec4, Vec4Swizzles};
 use half::f16;
 use std::any::Any;
 use std::f64::consts::{FRAC_PI_2, PI};
@@ -376,6 +379,7 @@ impl ThreadGeometry {
     /// [`Self::sample`] in f32 (the arithmetic of `shaders/thread_frame_sample.wgsl`, with
     /// [`fast_math`] for atan2 and asin). `fast` are this thread's axes in f32 (4D axes,
     /// then the masking axis).
+    #[inline]
     pub fn sample_f32(
         &self,
         fast: &[AxisF32; 5],
@@ -384,42 +388,76 @@ impl ThreadGeometry {
         wi: Vec3,
         wo: Vec3,
     ) -> [f32; 4] {
-        let along = |w: Vec3| {
-            if self.t0 == DVec3::X {
-                (w.x, w.y)
-            } else {
-                (w.y, w.x)
-            }
-        };
-        let ((wi_t, wi_b), (wo_t, wo_b)) = (along(wi), along(wo));
-        let (h_t, h_z) = (wi_t + wo_t, wi.z + wo.z);
-        let r = (h_t * h_t + h_z * h_z).max(1e-37).sqrt().recip();
+        let located = self.locate_f32::<f32>(fast, &[wi], &[wo]);
+        self.sample_located(table, masking, &located, 0)
+    }
+
+    /// Where `L::WIDTH` pairs (`wi`, `wo` of that length) fall in this thread's tables,
+    /// lane by lane the same arithmetic: one pair in `f32`, or eight in SIMD registers
+    /// (`wide::f32x8`), which pays because the angles of a lookup are chains of dependent
+    /// divisions and polynomials that one pair alone cannot keep the floating-point units
+    /// busy with.
+    #[inline(always)]
+    pub fn locate_f32<L: Lanes>(
+        &self,
+        fast: &[AxisF32; 5],
+        wi: &[Vec3],
+        wo: &[Vec3],
+    ) -> LocatedPairs<L> {
+        let swap = self.t0 != DVec3::X;
+        let lanes = |w: &[Vec3], f: fn(Vec3) -> f32| L::from_fn(|k| f(w[k]));
+        // (w·t0, w·b): thread 1 runs along x, thread 2 along y.
+        let along: fn(Vec3) -> f32 = if swap { |w| w.y } else { |w| w.x };
+        let across: fn(Vec3) -> f32 = if swap { |w| w.x } else { |w| w.y };
+        let (wi_t, wi_b, wi_z) = (lanes(wi, along), lanes(wi, across), lanes(wi, |w| w.z));
+        let (wo_t, wo_b, wo_z) = (lanes(wo, along), lanes(wo, across), lanes(wo, |w| w.z));
+        let (half, one) = (L::splat(0.5), L::splat(1.0));
+        let (h_t, h_z) = (wi_t + wo_t, wi_z + wo_z);
+        let r = one / (h_t * h_t + h_z * h_z).max(L::splat(1e-37)).sqrt();
         let (sin_b, cos_b) = (h_t * r, h_z * r);
-        let s = (0.5 * ((wi_t - wo_t) * cos_b - (wi.z - wo.z) * sin_b)).clamp(-1.0, 1.0);
-        let wi_n = wi_t * sin_b + wi.z * cos_b;
-        let wo_n = wo_t * sin_b + wo.z * cos_b;
+        let s = (half * ((wi_t - wo_t) * cos_b - (wi_z - wo_z) * sin_b))
+            .max(-one)
+            .min(one);
+        let wi_n = wi_t * sin_b + wi_z * cos_b;
+        let wo_n = wo_t * sin_b + wo_z * cos_b;
         let phi_i = fast_math::atan2(wi_b, wi_n);
         let phi_o = fast_math::atan2(wo_b, wo_n);
         let cos2_d = wi_n * wi_n + wi_b * wi_b;
-        let (mut u, mut v) = (0.5 * (phi_i + phi_o), 0.5 * (phi_i - phi_o));
-        if u < 0.0 {
-            (u, v) = (-u, -v);
+        // u, v folded by b → −b to u ≥ 0.
+        let (u, v) = (half * (phi_i + phi_o), half * (phi_i - phi_o));
+        let flip = u.lt(L::splat(0.0));
+        LocatedPairs {
+            axes: [
+                fast[0].locate(fast_math::atan2(h_t, h_z)),
+                fast[1].locate(fast_math::atan2(s, cos2_d.sqrt())),
+                fast[2].locate(L::select(flip, -u, u)),
+                fast[3].locate(L::select(flip, -v, v)),
+                fast[4].locate(fast_math::atan2(wi_t, wi_z)),
+                fast[4].locate(fast_math::atan2(wo_t, wo_z)),
+            ],
+            cos2_d: cos2_d.values(),
         }
-        let theta_d = fast_math::atan2(s, cos2_d.sqrt());
-        let located = [
-            fast[0].locate(fast_math::atan2(h_t, h_z)),
-            fast[1].locate(theta_d),
-            fast[2].locate(u),
-            fast[3].locate(v),
-        ];
-        let [reflection, transmission] = interpolate_f32(self, table, located);
-        let masking = masking_f32(
-            &fast[4],
-            masking,
-            fast_math::atan2(wi_t, wi.z),
-            fast_math::atan2(wo_t, wo.z),
-        );
-        [reflection, transmission, masking, cos2_d]
+    }
+
+    /// This thread's `[reflection, transmission, ⟨P⟩, cos²θd']` at pair `k` of `at`
+    /// (quadrilinear in the 4D table, bilinear in the masking table).
+    #[inline(always)]
+    pub fn sample_located(
+        &self,
+        table: &Plane,
+        masking: &Plane,
+        at: &LocatedPairs<impl Lanes>,
+        k: usize,
+    ) -> [f32; 4] {
+        let lane = |a: usize| (at.axes[a].0[k] as usize, at.axes[a].1[k]);
+        let [reflection, transmission] =
+            interpolate_f32(self, table, [lane(0), lane(1), lane(2), lane(3)]);
+        [
+            reflection,
+            transmission,
+            masking_f32(masking, [lane(4), lane(5)]),
+            at.cos2_d[k],
+        ]
     }
 
     /// The WGSL function `name(wi, wo) -> vec4<f32>` sampling this thread
@@ -574,23 +612,23 @@ impl Geometry {
     }
 }
 
-impl Geometry {}
-
-impl TableLookup for Geometry {
-    fn terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3] {
-        self.lookup_terms(planes, wi, wo)
-    }
-
-    #[inline]
-    fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3] {
+impl Geometry {
+    /// The terms of pair `k` of `located` (each thread's located pairs), as
+    /// [`TableLookup::terms_f32`] describes them; `wo_z` is that pair's wo.z.
+    #[inline(always)]
+    fn terms_located<L: Lanes>(
+        &self,
+        planes: &[Plane],
+        located: &[LocatedPairs<L>; 2],
+        k: usize,
+        wo_z: f32,
+    ) -> [f32; 3] {
         let mut reflection = 0.0;
         let mut transmission = [0.0; 2];
-        let mut q = self.gap as f32 * wo.z;
-        let threads = [0, 1].map(|j| {
-            self.threads[j].sample_f32(&self.fast_axes[j], &planes[j], &planes[2 + j], wi, wo)
-        });
+        let mut q = self.gap as f32 * wo_z;
         for (j, share) in transmission.iter_mut().enumerate() {
-            let [r, t, masking, cos2_d] = threads[j];
+            let [r, t, masking, cos2_d] =
+                self.threads[j].sample_located(&planes[j], &planes[2 + j], &located[j], k);
             let a = self.coverage[j] as f32;
             reflection += a * r * masking / cos2_d.max(1e-8);
             *share = a * t * masking;
@@ -600,6 +638,39 @@ impl TableLookup for Geometry {
             return [0.0; 3];
         }
         [reflection / q, transmission[0] / q, transmission[1] / q]
+    }
+
+    /// Both threads' located pairs for `L::WIDTH` pairs.
+    #[inline(always)]
+    fn locate<L: Lanes>(&self, wi: &[Vec3], wo: &[Vec3]) -> [LocatedPairs<L>; 2] {
+        let thread = |j: usize| self.threads[j].locate_f32::<L>(&self.fast_axes[j], wi, wo);
+        [thread(0), thread(1)]
+    }
+}
+
+impl TableLookup for Geometry {
+    fn terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3] {
+        self.lookup_terms(planes, wi, wo)
+    }
+
+    #[inline]
+    fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3] {
+        let located = self.locate::<f32>(&[wi], &[wo]);
+        self.terms_located(planes, &located, 0, wo.z)
+    }
+
+    fn terms_f32_lanes(
+        &self,
+        planes: &[Plane],
+        wi: &[Vec3; BATCH_LANES],
+        wo: &[Vec3; BATCH_LANES],
+    ) -> [[f32; 3]; BATCH_LANES] {
+        let located = self.locate::<BatchLanes>(wi, wo);
+        let mut terms = [[0.0; 3]; BATCH_LANES];
+        for (k, terms) in terms.iter_mut().enumerate() {
+            *terms = self.terms_located(planes, &located, k, wo[k].z);
+        }
+        terms
     }
 
     fn wgsl_constants(&self) -> String {
@@ -633,11 +704,18 @@ impl TableLookup for Geometry {
     }
 }
 
-/// A thread's ⟨P⟩ at (βi, βo) from its masking plane, bilinearly, in f32.
+/// Where `L::WIDTH` pairs fall in one thread's tables for the f32 lookup, lane by lane:
+/// the located texels (first index, fraction) of the 4D axes (βH, θd', u, v) and of the
+/// masking axes (βi, βo), and cos²θd'.
+#[derive(Clone, Copy, Debug)]
+pub struct LocatedPairs<L: Lanes> {
+    pub axes: [(L::Indices, L::Values); 6],
+    pub cos2_d: L::Values,
+}
+
+/// A thread's ⟨P⟩ at located (βi, βo) from its masking plane, bilinearly, in f32.
 #[inline(always)]
-fn masking_f32(axis: &AxisF32, plane: &Plane, beta_i: f32, beta_o: f32) -> f32 {
-    let (x0, fx) = axis.locate(beta_i);
-    let (y0, fy) = axis.locate(beta_o);
+fn masking_f32(plane: &Plane, [(x0, fx), (y0, fy)]: [(usize, f32); 2]) -> f32 {
     let at = |x: usize, y: usize| plane.data[y * MASKING_TEXELS + x];
     ((1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x0 + 1, y0))
         + fy * ((1.0 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1)))
@@ -649,30 +727,25 @@ fn masking_f32(axis: &AxisF32, plane: &Plane, beta_i: f32, beta_o: f32) -> f32 {
 #[inline(always)]
 fn interpolate_f32(thread: &ThreadGeometry, table: &Plane, located: [(usize, f32); 4]) -> [f32; 2] {
     let [(i0, f0), (i1, f1), (i2, f2), (i3, f3)] = located;
-    let n = thread.axes.map(|a| a.texels);
+    let n = [0, 1, 2, 3].map(|a| thread.axes[a].texels);
     // Plane row (i2·N3 + i3)·N1 + i1, column i0, two channels per texel: in f32 units
     // the corners along axis 0 are 2 apart, along axis 1 s1, along v s3, along u s2.
     let (s1, s3) = (2 * n[0], 2 * n[0] * n[1]);
     let s2 = s3 * n[3];
     let base = 2 * (((i2 * n[3] + i3) * n[1] + i1) * n[0] + i0);
     let data = &table.data;
-    let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-    // Bilinear over axes 0 and 1 of both channels at the corner block starting at `at`
-    // (one slice bounds check for its four texels).
-    let bilinear = |at: usize| -> [f32; 2] {
+    // A corner block's two rows along axis 1, each four consecutive floats (reflection and
+    // transmission at i0 and i0 + 1), blended along axis 1 in one SIMD register.
+    let block = |at: usize| {
         let p = &data[at..at + s1 + 4];
-        [0, 1].map(|c| {
-            lerp(
-                lerp(p[c], p[c + 2], f0),
-                lerp(p[s1 + c], p[s1 + c + 2], f0),
-                f1,
-            )
-        })
+        Vec4::from_slice(&p[..4]).lerp(Vec4::from_slice(&p[s1..]), f1)
     };
-    let lerp2 = |a: [f32; 2], b: [f32; 2], t: f32| [lerp(a[0], b[0], t), lerp(a[1], b[1], t)];
-    let lower_u = lerp2(bilinear(base), bilinear(base + s3), f3);
-    let upper_u = lerp2(bilinear(base + s2), bilinear(base + s2 + s3), f3);
-    lerp2(lower_u, upper_u, f2)
+    let lower_u = block(base).lerp(block(base + s3), f3);
+    let upper_u = block(base + s2).lerp(block(base + s2 + s3), f3);
+    let blended = lower_u.lerp(upper_u, f2);
+    // Last, axis 0: (x, y) at i0, (z, w) at i0 + 1.
+    let [reflection, transmission, _, _] = blended.lerp(blended.zwxy(), f0).to_array();
+    [reflection, transmission]
 }
 
 /// The 3D texture of thread `j` (see "GPU textures"): 2 channels, depth N2·(N3 + 2).
