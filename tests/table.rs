@@ -499,9 +499,10 @@ fn degenerate_for_f32(table: &Table, wi: glam::DVec3, wo: glam::DVec3) -> bool {
 /// end of the θd' axis (|θd'| > 90° − 1e-4 rad, cos²θd' < 1e-8: wi = −wo grazing along a
 /// thread), where both lookups divide a clamped texel by the 1e-8 floor of cos²θd' and
 /// any rounding of the tiny stored reflection is amplified 1e8 times. Measured largest
-/// difference elsewhere, relative to max(F, [`RELATIVE_FLOOR`]): 2.4e-4 (silk_shot,
-/// thread_frame R = 24), split_frame ≤ 1.2e-4, grid4d 6e-6–1.8e-4; the bound 1e-3 keeps a
-/// margin of 4×.
+/// difference elsewhere, relative to max(F, [`RELATIVE_FLOOR`]): 2.5e-4 (silk_shot,
+/// thread_frame R = 24), split_frame ≤ 1.2e-4 (its point masses by the f32 sample kernel
+/// of `src/table/point_samples.rs`, with the fast atan2 and exp, against the f64 model),
+/// grid4d 6e-6–1.8e-4; the bound 1e-3 keeps a margin of 4×.
 /// F below which the f32 lookup is compared in absolute rather than relative terms: the
 /// dark pairs (F spans 1e-6 to 1e3 over the sets; split_frame's exact point masses keep the
 /// narrow lobes' peaks, so a set's largest F is no scale for the rest).

@@ -21,6 +21,7 @@ pub mod axis;
 pub mod fast_math;
 pub mod grid4d;
 pub mod octahedral;
+pub mod point_samples;
 pub mod shader_language;
 pub mod split_frame;
 pub mod thread_frame;

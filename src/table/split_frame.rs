@@ -33,7 +33,8 @@
 //!
 //! A lookup for thread j sums, over its point masses, the single-sample terms
 //! (`ThreadModel::point_sums`: w_k·R_k, w_k·T_k, w_k·P_k, exactly as the direct evaluation
-//! weighs a flat segment), and for the sloped part `w_c⟨P⟩_c` times the interpolated ratios
+//! weighs a flat segment; the f32 lookup uses the same kernel in f32,
+//! [`super::point_samples::PointSamples`], for eight pairs at once in a batch), and for the sloped part `w_c⟨P⟩_c` times the interpolated ratios
 //! (reflection divided by cos²θd' as in thread_frame); then
 //! `Q = Σ_j a_j (Σ_k w_k P_k + w_c⟨P⟩_c) + (1 − a1 − a2)·wo.z` and `F = Σ_j a_j ⟨s⟩_j / Q`.
 //!
@@ -47,8 +48,9 @@
 
 use super::axis::AxisF32;
 use super::fast_math::Lanes;
+use super::point_samples::{PointSamples, PointSums};
 use super::thread_frame::{self, AxisPlan, LocatedPairs, ThreadGeometry};
-use super::wgsl::{coverage_wgsl, degenerate_threshold, unit_area_gaussian, wgsl_f32, wgsl_vec};
+use super::wgsl::{coverage_wgsl, wgsl_f32, wgsl_vec};
 use super::{BATCH_LANES, BatchLanes, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
 use crate::model::curve::{Integration, curve_pieces};
 use crate::model::fabric::TangentSampling;
@@ -172,20 +174,10 @@ pub struct SplitThread {
     /// Point masses as (cos α_k, sin α_k, w_k).
     pub points: Vec<(f64, f64, f64)>,
     pub slopes: Option<Slopes>,
-    /// Evaluates single tangent samples of this thread (its curve is not used).
+    /// Evaluates single tangent samples of this thread in f64 (its curve is not used).
     model: ThreadModel,
-    /// What the WGSL sample kernel needs: base tangent, rotation axis, σs, σv, σu (radians),
-    /// η, kd.
-    kernel: Kernel,
-}
-
-#[derive(Clone, Debug)]
-struct Kernel {
-    t0: DVec3,
-    b: DVec3,
-    sigmas: [f64; 3],
-    eta: f64,
-    kd: f64,
+    /// The same in f32 for the CPU lookup, with the constants of the WGSL sample kernel.
+    samples: PointSamples,
 }
 
 /// The lookup geometry of a split_frame table.
@@ -256,21 +248,14 @@ impl Geometry {
                     }
                 });
             let options = &fabric.options;
+            let sigmas = [thread.gamma_s_deg, thread.gamma_v_deg]
+                .map(|gamma| options.lobe_sigma_deg(gamma).to_radians());
+            let sigmas = [sigmas[0], sigmas[1], options.sigma_u_deg.to_radians()];
             SplitThread {
+                samples: PointSamples::new(j, sigmas, thread.eta, thread.kd, &points),
                 points,
                 slopes,
                 model: ThreadModel::new(fabric, j, Integration::Direct),
-                kernel: Kernel {
-                    t0: if j == 0 { DVec3::X } else { DVec3::Y },
-                    b: if j == 0 { DVec3::Y } else { DVec3::X },
-                    sigmas: [
-                        options.lobe_sigma_deg(thread.gamma_s_deg).to_radians(),
-                        options.lobe_sigma_deg(thread.gamma_v_deg).to_radians(),
-                        options.sigma_u_deg.to_radians(),
-                    ],
-                    eta: thread.eta,
-                    kd: thread.kd,
-                },
             }
         });
         let tabulated: Vec<usize> = (0..2).filter(|&j| threads[j].slopes.is_some()).collect();
@@ -320,26 +305,20 @@ impl Geometry {
         sums
     }
 
-    /// [`Self::thread_sums`] in f32 for the table part (the point masses by the f64 model),
-    /// for pair `k` of the `L::WIDTH` pairs `wi`, `wo`; `located` is where those pairs fall
-    /// in this thread's sloped table, if it has one.
+    /// [`Self::thread_sums`] in f32 for pair `k` of the `L::WIDTH` pairs whose point masses
+    /// sum to `points` and which fall at `located` in this thread's sloped table, if it
+    /// has one.
     #[inline(always)]
     fn thread_sums_f32<L: Lanes>(
         &self,
         planes: &[Plane],
         j: usize,
+        points: &PointSums<L>,
         located: Option<&LocatedPairs<L>>,
-        (wi, wo): (Vec3, Vec3),
         k: usize,
     ) -> [f32; 3] {
         let thread = &self.threads[j];
-        let mut sums = [0.0; 3];
-        if !thread.points.is_empty() {
-            let points = thread
-                .model
-                .point_sums(wi.as_dvec3(), wo.as_dvec3(), &thread.points);
-            sums = [points.reflection, points.transmission, points.masking].map(|x| x as f32);
-        }
+        let mut sums = points.map(|p| p.values()[k]);
         if let (Some(slopes), Some((table, masking)), Some(located)) =
             (&thread.slopes, self.planes[j], located)
         {
@@ -369,11 +348,13 @@ impl Geometry {
             slopes.map(|s| s.geometry.locate_f32::<L>(&s.fast_axes, wi, wo))
         };
         let located = [locate(0), locate(1)];
+        let points = |j: usize| self.threads[j].samples.sums::<L>(wi, wo);
+        let points = [points(0), points(1)];
         let a = self.coverage.map(|a| a as f32);
         let mut terms = [[0.0; 3]; N];
         for (k, terms) in terms.iter_mut().enumerate() {
-            let pair = (wi[k], wo[k]);
-            let sums = |j: usize| self.thread_sums_f32(planes, j, located[j].as_ref(), pair, k);
+            let sums =
+                |j: usize| self.thread_sums_f32(planes, j, &points[j], located[j].as_ref(), k);
             let sums = [sums(0), sums(1)];
             let q = self.gap as f32 * wo[k].z + a[0] * sums[0][2] + a[1] * sums[1][2];
             if q > 0.0 {
@@ -409,7 +390,7 @@ impl Geometry {
             thread.slopes.as_ref().map_or(0.0, |s| s.weight)
         );
         if !thread.points.is_empty() {
-            let (t0, b) = (thread.kernel.t0, thread.kernel.b);
+            let (t0, b) = thread.samples.axes();
             let _ = write!(
                 f,
                 "    let material = {};\n    \
@@ -447,18 +428,15 @@ impl Geometry {
 
     /// The `ClothSampleMaterial` of thread `j` as a WGSL literal.
     fn material_wgsl(&self, j: usize) -> String {
-        let kernel = &self.threads[j].kernel;
-        let [sigma_s, sigma_v, sigma_u] = kernel.sigmas;
-        let [ks, ps] = unit_area_gaussian(sigma_s);
-        let [kv, pv] = unit_area_gaussian(sigma_v);
+        let samples = &self.threads[j].samples;
         format!(
             "ClothSampleMaterial({}, {}, {}, {}, {}, {})",
-            wgsl_vec(&[ks, ps, kv, pv]),
-            wgsl_f32(kernel.eta),
-            wgsl_f32(kernel.kd),
-            if kernel.eta == 1.0 { "1.0" } else { "0.0" },
-            wgsl_f32(-0.5 / (sigma_u * sigma_u)),
-            wgsl_f32(degenerate_threshold()),
+            wgsl_vec(&samples.lobes),
+            wgsl_f32(samples.eta),
+            wgsl_f32(samples.kd),
+            if samples.no_interface { "1.0" } else { "0.0" },
+            wgsl_f32(samples.k_u),
+            wgsl_f32(samples.threshold),
         )
     }
 }

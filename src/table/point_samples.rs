@@ -1,0 +1,230 @@
+//! Single tangent samples of one thread in f32, for many direction pairs at once: the CPU
+//! twin of `shaders/sample.wgsl` (`cloth_sample_pair`, `cloth_sample_terms`), line for
+//! line the same formulas, written once for [`Lanes`] (one pair in `f32`, eight in
+//! `wide::f32x8`). `split_frame` evaluates a thread's point masses (its flat segments)
+//! with it. It follows the f64 kernel `ThreadModel::sample` of `src/model/patch.rs`, in the
+//! forms that keep their accuracy in f32 (see `shaders/sample.wgsl`), with [`fast_math`]'s
+//! atan2 and exp; `tests/table.rs` bounds the difference through the whole lookup.
+//!
+//! Where a sample contributes nothing (a direction faces away from it, or a projection is
+//! degenerate) its lanes are selected to 0 rather than skipped, so that every lane runs the
+//! same instructions.
+
+use super::fast_math::{self, Lanes};
+use super::wgsl::{degenerate_threshold, unit_area_gaussian};
+use glam::Vec3;
+
+/// One thread's sample kernel constants in f32 and its point masses.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointSamples {
+    /// Surface lobe −1/(2σs²), 1/(σs√(2π)); volume lobe −1/(2σv²), 1/(σv√(2π)) (radians).
+    pub lobes: [f32; 4],
+    pub eta: f32,
+    pub kd: f32,
+    /// η = 1 exactly: no interface, Fr = 0.
+    pub no_interface: bool,
+    /// −1/(2σu²) of the reweighting Gaussian u.
+    pub k_u: f32,
+    /// Projections of this length or less are degenerate ([`degenerate_threshold`]).
+    pub threshold: f32,
+    /// Thread 2: t0 = y and b = x (thread 1: t0 = x, b = y).
+    swap: bool,
+    /// (cos α_k, sin α_k, w_k) of each point mass.
+    points: Vec<[f32; 3]>,
+}
+
+/// Per lane, the weighted sums over the points: `[reflection, transmission, masking]` as
+/// `ThreadModel::point_sums` gives them (transmission = volume + diffuse).
+pub type PointSums<L> = [L; 3];
+
+impl PointSamples {
+    /// Thread `index` (0 or 1) with lobe widths `sigmas` = (σs, σv, σu) in radians, index
+    /// `eta`, diffuse share `kd` and `points` as (cos α, sin α, weight).
+    pub fn new(
+        index: usize,
+        sigmas: [f64; 3],
+        eta: f64,
+        kd: f64,
+        points: &[(f64, f64, f64)],
+    ) -> Self {
+        let [ks, ps] = unit_area_gaussian(sigmas[0]);
+        let [kv, pv] = unit_area_gaussian(sigmas[1]);
+        Self {
+            lobes: [ks, ps, kv, pv],
+            eta: eta as f32,
+            kd: kd as f32,
+            no_interface: eta == 1.0,
+            k_u: (-0.5 / (sigmas[2] * sigmas[2])) as f32,
+            threshold: degenerate_threshold(),
+            swap: index == 1,
+            points: points
+                .iter()
+                .map(|&(c, s, w)| [c as f32, s as f32, w as f32])
+                .collect(),
+        }
+    }
+
+    /// The thread's base tangent t0 and rotation axis b.
+    pub fn axes(&self) -> (Vec3, Vec3) {
+        if self.swap {
+            (Vec3::Y, Vec3::X)
+        } else {
+            (Vec3::X, Vec3::Y)
+        }
+    }
+
+    /// The point masses' weighted sums for the `L::WIDTH` pairs `wi`, `wo` (slices of that
+    /// length, directions above the horizon).
+    #[inline(always)]
+    pub fn sums<L: Lanes>(&self, wi: &[Vec3], wo: &[Vec3]) -> PointSums<L> {
+        let zero = L::splat(0.0);
+        if self.points.is_empty() {
+            return [zero; 3];
+        }
+        let lanes = |w: &[Vec3], f: fn(Vec3) -> f32| L::from_fn(|k| f(w[k]));
+        let along: fn(Vec3) -> f32 = if self.swap { |w| w.y } else { |w| w.x };
+        let across: fn(Vec3) -> f32 = if self.swap { |w| w.x } else { |w| w.y };
+        let pair = Pair {
+            ti0: lanes(wi, along),
+            zi: lanes(wi, |w| w.z),
+            bi: lanes(wi, across),
+            to0: lanes(wo, along),
+            zo: lanes(wo, |w| w.z),
+            bo: lanes(wo, across),
+        };
+        let (par_i, par_o) = (
+            (pair.ti0 * pair.ti0 + pair.zi * pair.zi).sqrt(),
+            (pair.to0 * pair.to0 + pair.zo * pair.zo).sqrt(),
+        );
+        // w ∥ b is degenerate for P and s: such lanes get 0 from every sample.
+        let valid = L::and(
+            par_i.gt(L::splat(self.threshold)),
+            par_o.gt(L::splat(self.threshold)),
+        );
+        let (psi_d, _) = angle(
+            [pair.ti0 / par_i, pair.zi / par_i],
+            [pair.to0 / par_o, pair.zo / par_o],
+        );
+        let u_psi = fast_math::exp(psi_d * psi_d * L::splat(self.k_u));
+        let mut sums = [zero; 3];
+        for &[cos_a, sin_a, weight] in &self.points {
+            let [masking, reflection, transmission] =
+                self.terms(&pair, par_i, par_o, u_psi, L::splat(cos_a), L::splat(sin_a));
+            let weight = L::splat(weight);
+            sums[0] = sums[0] + weight * L::select(valid, reflection, zero);
+            sums[1] = sums[1] + weight * L::select(valid, transmission, zero);
+            sums[2] = sums[2] + weight * L::select(valid, masking, zero);
+        }
+        sums
+    }
+
+    /// `cloth_sample_terms` at the tangent offset (cos_a, sin_a): (P, reflection,
+    /// volume + diffuse), 0 where a direction faces away or a projection is degenerate.
+    #[inline(always)]
+    fn terms<L: Lanes>(
+        &self,
+        p: &Pair<L>,
+        par_i: L,
+        par_o: L,
+        u_psi: L,
+        cos_a: L,
+        sin_a: L,
+    ) -> [L; 3] {
+        let (zero, one, half) = (L::splat(0.0), L::splat(1.0), L::splat(0.5));
+        // w·n(α); cos θ = |w⊥| = √((w·n)² + (w·b)²).
+        let ni = p.zi * cos_a - p.ti0 * sin_a;
+        let no = p.zo * cos_a - p.to0 * sin_a;
+        let perp_i = (ni * ni + p.bi * p.bi).sqrt();
+        let perp_o = (no * no + p.bo * p.bo).sqrt();
+        let threshold = L::splat(self.threshold);
+        let counts = L::and(
+            L::and(ni.gt(zero), no.gt(zero)),
+            L::and(perp_i.gt(threshold), perp_o.gt(threshold)),
+        );
+        let masking_p = reweighted(u_psi, ni / par_i, no / par_o);
+        // φd between the unit projections w⊥/|w⊥| = ((w·n), (w·b))/|w⊥|.
+        let (phi_d, cos_half_phi_d) =
+            angle([ni / perp_i, p.bi / perp_i], [no / perp_o, p.bo / perp_o]);
+        let u_phi = fast_math::exp(phi_d * phi_d * L::splat(self.k_u));
+        let shadowing_m = reweighted(u_phi, ni / perp_i, no / perp_o);
+        // θ from atan2 of the accurate sine (w·t) and cosine (|w⊥|).
+        let si = p.ti0 * cos_a + p.zi * sin_a;
+        let so = p.to0 * cos_a + p.zo * sin_a;
+        let theta_h = half * (fast_math::atan2(si, perp_i) + fast_math::atan2(so, perp_o));
+        // cos²θd = (1 + ĉi ĉo + ŝi ŝo)/2, and where ŝi ŝo < 0 (both directions towards ±t)
+        // the cancellation-free 1 + ŝi ŝo = di + do − di do, d = 1 − |ŝ| = ĉ²/(1 + |ŝ|).
+        let ri = (si * si + perp_i * perp_i).sqrt();
+        let ro = (so * so + perp_o * perp_o).sqrt();
+        let (ci, co, sin_i, sin_o) = (perp_i / ri, perp_o / ro, si / ri, so / ro);
+        let di = ci * ci / (one + sin_i.abs());
+        let d_o = co * co / (one + sin_o.abs());
+        let cos2_theta_d = L::select(
+            (sin_i * sin_o).lt(zero),
+            half * (di + d_o - di * d_o + ci * co),
+            half * (one + ci * co + sin_i * sin_o),
+        )
+        .min(one);
+        let (fr, ft) = self.fresnel(cos2_theta_d.sqrt() * cos_half_phi_d);
+        // The bounded products: M·P·cos θi/cos²θd, and cos θi/(cos θi + cos θo) ≤ 1.
+        let bounded = shadowing_m * masking_p / cos2_theta_d;
+        let transmission = bounded * ft * (perp_i / (perp_i + perp_o));
+        let theta_h2 = theta_h * theta_h;
+        let lobe = |k: f32, norm: f32| L::splat(norm) * fast_math::exp(theta_h2 * L::splat(k));
+        let reflection =
+            bounded * fr * cos_half_phi_d * lobe(self.lobes[0], self.lobes[1]) * perp_i;
+        let volume = transmission * L::splat(1.0 - self.kd) * lobe(self.lobes[2], self.lobes[3]);
+        let diffuse = transmission * L::splat(self.kd);
+        [masking_p, reflection, volume + diffuse].map(|x| L::select(counts, x, zero))
+    }
+
+    /// `cloth_sample_fresnel`: (Fr, Ft = (1 − Fr)²) from air into η at incidence cosine
+    /// `cos_i`, with 1 − Fr formed without cancellation.
+    #[inline(always)]
+    fn fresnel<L: Lanes>(&self, cos_i: L) -> (L, L) {
+        if self.no_interface {
+            return (L::splat(0.0), L::splat(1.0));
+        }
+        let (zero, one, eta) = (L::splat(0.0), L::splat(1.0), L::splat(self.eta));
+        let cos_i = cos_i.max(zero).min(one);
+        let sin2_t = (one - cos_i * cos_i) / (eta * eta);
+        let cos_t = (one - sin2_t).max(zero).sqrt();
+        let ds = cos_i + eta * cos_t;
+        let dp = eta * cos_i + cos_t;
+        let rs = (cos_i - eta * cos_t) / ds;
+        let rp = (eta * cos_i - cos_t) / dp;
+        let transmitted = L::splat(2.0) * eta * cos_i * cos_t * (one / (ds * ds) + one / (dp * dp));
+        (
+            L::splat(0.5) * (rs * rs + rp * rp),
+            transmitted * transmitted,
+        )
+    }
+}
+
+/// A pair's components in a thread's fixed axes {t0, b, z}.
+struct Pair<L> {
+    ti0: L,
+    zi: L,
+    bi: L,
+    to0: L,
+    zo: L,
+    bo: L,
+}
+
+/// `reweighted`: (1 − u)·a·b + u·min(a, b).
+#[inline(always)]
+fn reweighted<L: Lanes>(u: L, a: L, b: L) -> L {
+    (L::splat(1.0) - u) * a * b + u * a.min(b)
+}
+
+/// `cloth_sample_angle`: for unit 2D vectors a and c, the angle between them, 2·atan2(|a −
+/// c|, |a + c|), and the cosine of half of it, |a + c|/2 (at most 1).
+#[inline(always)]
+fn angle<L: Lanes>(a: [L; 2], c: [L; 2]) -> (L, L) {
+    let length = |x: L, y: L| (x * x + y * y).sqrt();
+    let sum = length(a[0] + c[0], a[1] + c[1]);
+    let difference = length(a[0] - c[0], a[1] - c[1]);
+    (
+        L::splat(2.0) * fast_math::atan2(difference, sum),
+        (L::splat(0.5) * sum).min(L::splat(1.0)),
+    )
+}
