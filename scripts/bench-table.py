@@ -30,7 +30,7 @@ lookups = sorted({name for by_mode in eval_rows.values() for name in by_mode
                   if name.startswith("lookup_")},
                  key=lambda n: ("grid4d" in n, n))
 modes = evaluations + lookups
-FAST = "lookup_f32_thread_frame"
+FAST = "lookup_batch_thread_frame"  # the fast CPU path (eight pairs per SIMD step)
 
 
 def ratio(ns, a, b):
