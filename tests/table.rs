@@ -563,3 +563,59 @@ fn f32_lookup_follows_the_f64_lookup() {
         "f32 lookup differs by {worst_overall:e}"
     );
 }
+
+/// The batch lookup on pairs whose lanes mix directions above, on and below the horizon,
+/// for lengths that fill whole groups of eight lanes and leave remainders: every pair as
+/// its single lookup (bit for bit), and 0 wherever a direction is not above the horizon
+/// (MODEL.md's one-sided cloth), whatever the other lanes hold.
+#[test]
+fn batch_lookup_matches_single_lookups_across_lanes_and_the_horizon() {
+    let fabric = builtin()
+        .into_iter()
+        .find(|f| f.name == "polyester_satin_charmeuse_back")
+        .unwrap();
+    let up = glam::Vec3::new(0.3, -0.4, 0.866).normalize();
+    let directions = [
+        up,
+        glam::Vec3::new(-0.8, 0.1, 0.59).normalize(),
+        glam::Vec3::new(0.6, 0.8, 0.0),
+        glam::Vec3::new(0.2, 0.3, -0.93).normalize(),
+        glam::Vec3::new(0.99, 0.0, 0.01).normalize(),
+        glam::Vec3::new(-0.995, 0.05, 0.002).normalize(),
+    ];
+    let pairs: Vec<(glam::Vec3, glam::Vec3)> = (0..directions.len() * directions.len())
+        .map(|k| (directions[k % 6], directions[(k / 6 + k) % 6]))
+        .collect();
+    for (layout, resolution) in [
+        (Layout::THREAD_FRAME, 16),
+        (Layout::SPLIT_FRAME, 16),
+        (Layout::GRID4D, 8),
+    ] {
+        let table = bake(&fabric, layout, resolution, &|| {}).unwrap();
+        for count in [8, 13, 16, 36] {
+            let mut batch = vec![glam::Vec3::splat(-1.0); count];
+            table.lookup_batch(&pairs[..count], &mut batch);
+            for (k, &(wi, wo)) in pairs[..count].iter().enumerate() {
+                assert_eq!(
+                    batch[k],
+                    table.lookup_f32(wi, wo),
+                    "{layout} pair {k} of {count}"
+                );
+                if wi.z <= 0.0 || wo.z <= 0.0 {
+                    assert_eq!(
+                        batch[k],
+                        glam::Vec3::ZERO,
+                        "{layout} pair {k} below the horizon"
+                    );
+                } else {
+                    assert!(batch[k].min_element() >= 0.0 && batch[k].is_finite());
+                }
+            }
+        }
+        let lit = pairs.iter().filter(|p| p.0.z > 0.0 && p.1.z > 0.0).count();
+        println!(
+            "{layout}: {} pairs, {lit} above the horizon, batch = single",
+            pairs.len()
+        );
+    }
+}

@@ -33,9 +33,10 @@
 //!
 //! A lookup for thread j sums, over its point masses, the single-sample terms
 //! (`ThreadModel::point_sums`: w_k·R_k, w_k·T_k, w_k·P_k, exactly as the direct evaluation
-//! weighs a flat segment; the f32 lookup uses the same kernel in f32,
-//! [`super::point_samples::PointSamples`], for eight pairs at once in a batch), and for the sloped part `w_c⟨P⟩_c` times the interpolated ratios
-//! (reflection divided by cos²θd' as in thread_frame); then
+//! weighs a flat segment; the f32 lookup runs the same kernel in f32,
+//! [`super::point_samples::PointSamples`], eight pairs at once in a batch), and for the
+//! sloped part `w_c⟨P⟩_c` times the interpolated ratios (reflection divided by cos²θd' as
+//! in thread_frame); then
 //! `Q = Σ_j a_j (Σ_k w_k P_k + w_c⟨P⟩_c) + (1 − a1 − a2)·wo.z` and `F = Σ_j a_j ⟨s⟩_j / Q`.
 //!
 //! # GPU textures

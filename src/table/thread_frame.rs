@@ -376,27 +376,14 @@ impl ThreadGeometry {
         [r, t, masking, 1.0 - sin_d * sin_d]
     }
 
-    /// [`Self::sample`] in f32 (the arithmetic of `shaders/thread_frame_sample.wgsl`, with
-    /// [`fast_math`] for atan2 and asin). `fast` are this thread's axes in f32 (4D axes,
-    /// then the masking axis).
-    #[inline]
-    pub fn sample_f32(
-        &self,
-        fast: &[AxisF32; 5],
-        table: &Plane,
-        masking: &Plane,
-        wi: Vec3,
-        wo: Vec3,
-    ) -> [f32; 4] {
-        let located = self.locate_f32::<f32>(fast, &[wi], &[wo]);
-        self.sample_located(table, masking, &located, 0)
-    }
-
-    /// Where `L::WIDTH` pairs (`wi`, `wo` of that length) fall in this thread's tables,
-    /// lane by lane the same arithmetic: one pair in `f32`, or eight in SIMD registers
-    /// (`wide::f32x8`), which pays because the angles of a lookup are chains of dependent
-    /// divisions and polynomials that one pair alone cannot keep the floating-point units
-    /// busy with.
+    /// Where `L::WIDTH` pairs (`wi`, `wo` of that length) fall in this thread's tables: the
+    /// first half of [`Self::sample`] in f32 (the arithmetic of
+    /// `shaders/thread_frame_sample.wgsl`, with [`fast_math`] for atan2 and asin; `fast` are
+    /// this thread's axes in f32, the 4D axes, then the masking axis), lane by lane the
+    /// same operations: one pair in `f32`, or eight in SIMD registers (`wide::f32x8`), which
+    /// pays because the angles of a lookup are chains of dependent divisions and
+    /// polynomials that one pair alone cannot keep the floating-point units busy with.
+    /// [`Self::sample_located`] is the second half.
     #[inline(always)]
     pub fn locate_f32<L: Lanes>(
         &self,
