@@ -39,7 +39,7 @@
 //! and then z inside it; u2 the column and then the azimuth inside it.
 
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -183,17 +183,38 @@ impl Sampler {
         Self::build(|wi, wo| patch.eval(wi, wo))
     }
 
-    /// The sampler of a baked table's fabric, built from the table's f32 lookup: a tenth of
-    /// the resonant quadrature's cost, and the density follows the F that a renderer using
-    /// the table shades with.
+    /// The sampler of a baked table's fabric, built from the table's f32 lookup (its batch
+    /// entry point, [`crate::table::Table::lookup_batch`], the same values as single
+    /// lookups): a small fraction of the resonant quadrature's cost, and the density
+    /// follows the F that a renderer using the table shades with.
     pub fn for_table(table: &crate::table::Table) -> Self {
-        Self::build(|wi, wo| crate::accuracy::lookup_f32(table, wi, wo))
+        Self::build_batched(|pairs, out| {
+            let pairs: Vec<(Vec3, Vec3)> = pairs
+                .iter()
+                .map(|&(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
+                .collect();
+            let mut values = vec![Vec3::ZERO; pairs.len()];
+            table.lookup_batch(&pairs, &mut values);
+            for (f, v) in out.iter_mut().zip(values) {
+                *f = v.as_dvec3();
+            }
+        })
     }
 
     /// A sampler whose cell probabilities follow `f(wi, wo)` (RGB, the patch transfer; its
     /// mean over the channels is used). Nodes in parallel, each computed alone: the result
     /// does not depend on the thread count.
     pub fn build(f: impl Fn(DVec3, DVec3) -> DVec3 + Sync) -> Self {
+        Self::build_batched(|pairs, out| {
+            for (value, &(wi, wo)) in out.iter_mut().zip(pairs) {
+                *value = f(wi, wo);
+            }
+        })
+    }
+
+    /// [`Self::build`] from `f(pairs, out)`, which writes F of every pair into `out`: each
+    /// node asks for all its cells' pairs at once, so that a batch evaluation can be used.
+    pub fn build_batched(f: impl Fn(&[(DVec3, DVec3)], &mut [DVec3]) + Sync) -> Self {
         let nodes: Vec<Vec<f32>> = (0..NODES)
             .into_par_iter()
             .map(|n| {
@@ -209,24 +230,36 @@ impl Sampler {
     }
 
     /// One node's CDFs for outgoing direction `wo`.
-    fn build_node(f: &impl Fn(DVec3, DVec3) -> DVec3, wo: DVec3) -> Vec<f32> {
+    fn build_node(f: &impl Fn(&[(DVec3, DVec3)], &mut [DVec3]), wo: DVec3) -> Vec<f32> {
         let column_width = TAU / COLUMNS as f64;
+        // Two points on each cell's diagonal: half the cost of 2 × 2, and the variance of
+        // the tests' albedo estimates moved by less than a factor 2.
+        const POINTS: [(f64, f64); 2] = [(0.25, 0.25), (0.75, 0.75)];
+        let mut pairs = Vec::with_capacity(ROWS * COLUMNS * POINTS.len());
+        for r in 0..ROWS {
+            let (z0, z1) = (row_z(r), row_z(r + 1));
+            for c in 0..COLUMNS {
+                for (a, b) in POINTS {
+                    let wi = direction_at_z(z0 + a * (z1 - z0), (c as f64 + b) * column_width);
+                    pairs.push((wi, wo));
+                }
+            }
+        }
+        let mut values = vec![DVec3::ZERO; pairs.len()];
+        f(&pairs, &mut values);
         let mut out = vec![0.0f32; NODE_STRIDE];
         let mut row_weights = [0.0f64; ROWS];
         let mut cells = [0.0f64; COLUMNS];
         for (r, row_weight) in row_weights.iter_mut().enumerate() {
             let (z0, z1) = (row_z(r), row_z(r + 1));
             for (c, cell) in cells.iter_mut().enumerate() {
-                let mut sum = 0.0;
-                // Two points on the cell's diagonal: half the cost of 2 × 2, and the variance
-                // of the tests' albedo estimates moved by less than a factor 2.
-                for (a, b) in [(0.25, 0.25), (0.75, 0.75)] {
-                    let wi = direction_at_z(z0 + a * (z1 - z0), (c as f64 + b) * column_width);
-                    let v = f(wi, wo);
-                    sum += (v.x + v.y + v.z) / 3.0;
-                }
+                let at = (r * COLUMNS + c) * POINTS.len();
+                let sum: f64 = values[at..at + POINTS.len()]
+                    .iter()
+                    .map(|v| (v.x + v.y + v.z) / 3.0)
+                    .sum();
                 // Mean value × solid angle; a non-finite or negative F is treated as 0.
-                let value = sum / 2.0 * (z1 - z0) * column_width;
+                let value = sum / POINTS.len() as f64 * (z1 - z0) * column_width;
                 *cell = if value.is_finite() && value > 0.0 {
                     value
                 } else {
