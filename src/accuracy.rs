@@ -132,14 +132,23 @@ pub fn lookup_f32(table: &Table, wi: DVec3, wo: DVec3) -> DVec3 {
     table.lookup_f32(wi.as_vec3(), wo.as_vec3()).as_dvec3()
 }
 
-/// The sum of [`Table::lookup_batch`] over `pairs` given in f64 (rounded to f32 as a
-/// renderer passes them): what the report times as a table's cost.
-pub fn lookup_batch_sum(table: &Table, pairs: &[(DVec3, DVec3)]) -> DVec3 {
+/// [`Table::lookup_batch`] on f64 pairs (rounded to f32 as a renderer passes them), into
+/// `out` (same length).
+pub fn lookup_batch_f64(table: &Table, pairs: &[(DVec3, DVec3)], out: &mut [DVec3]) {
     let pairs: Vec<(Vec3, Vec3)> = pairs
         .iter()
         .map(|&(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
         .collect();
-    let mut out = vec![Vec3::ZERO; pairs.len()];
-    table.lookup_batch(&pairs, &mut out);
-    out.iter().map(|f| f.as_dvec3()).sum()
+    let mut values = vec![Vec3::ZERO; pairs.len()];
+    table.lookup_batch(&pairs, &mut values);
+    for (f, v) in out.iter_mut().zip(values) {
+        *f = v.as_dvec3();
+    }
+}
+
+/// The sum of [`lookup_batch_f64`] over `pairs`: what the report times as a table's cost.
+pub fn lookup_batch_sum(table: &Table, pairs: &[(DVec3, DVec3)]) -> DVec3 {
+    let mut out = vec![DVec3::ZERO; pairs.len()];
+    lookup_batch_f64(table, pairs, &mut out);
+    out.iter().sum()
 }

@@ -39,7 +39,7 @@
 //! and then z inside it; u2 the column and then the azimuth inside it.
 
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
-use glam::{DVec3, Vec3};
+use glam::DVec3;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -188,17 +188,7 @@ impl Sampler {
     /// lookups): a small fraction of the resonant quadrature's cost, and the density
     /// follows the F that a renderer using the table shades with.
     pub fn for_table(table: &crate::table::Table) -> Self {
-        Self::build_batched(|pairs, out| {
-            let pairs: Vec<(Vec3, Vec3)> = pairs
-                .iter()
-                .map(|&(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
-                .collect();
-            let mut values = vec![Vec3::ZERO; pairs.len()];
-            table.lookup_batch(&pairs, &mut values);
-            for (f, v) in out.iter_mut().zip(values) {
-                *f = v.as_dvec3();
-            }
-        })
+        Self::build_batched(|pairs, out| crate::accuracy::lookup_batch_f64(table, pairs, out))
     }
 
     /// A sampler whose cell probabilities follow `f(wi, wo)` (RGB, the patch transfer; its

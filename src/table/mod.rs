@@ -65,12 +65,12 @@ pub trait LayoutUnit: Sync {
     fn wgsl_source(&self) -> &'static str;
 }
 
-/// Pairs per unit of work of [`Table::lookup_batch`]: eight f32 lanes, one AVX register
-/// (two SSE ones).
-pub const BATCH_LANES: usize = 8;
-
-/// The lanes of a batch lookup's coordinates ([`fast_math::Lanes`]).
+/// The lanes of a batch lookup's coordinates ([`fast_math::Lanes`]): eight f32, one AVX
+/// register (two SSE ones).
 pub type BatchLanes = wide::f32x8;
+
+/// Pairs per unit of work of [`Table::lookup_batch`], one per lane of [`BatchLanes`].
+pub const BATCH_LANES: usize = <BatchLanes as fast_math::Lanes>::WIDTH;
 
 /// The lookup of one table: the geometry its layout derives from fabric and resolution.
 /// Every method takes the table's planes.

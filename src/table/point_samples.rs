@@ -11,6 +11,7 @@
 //! same instructions.
 
 use super::fast_math::{self, Lanes};
+use super::thread_frame::lanes_in_thread_axes;
 use super::wgsl::{degenerate_threshold, unit_area_gaussian};
 use glam::Vec3;
 
@@ -28,7 +29,7 @@ pub struct PointSamples {
     /// Projections of this length or less are degenerate ([`degenerate_threshold`]).
     pub threshold: f32,
     /// Thread 2: t0 = y and b = x (thread 1: t0 = x, b = y).
-    swap: bool,
+    thread2: bool,
     /// (cos α_k, sin α_k, w_k) of each point mass.
     points: Vec<[f32; 3]>,
 }
@@ -56,20 +57,11 @@ impl PointSamples {
             no_interface: eta == 1.0,
             k_u: (-0.5 / (sigmas[2] * sigmas[2])) as f32,
             threshold: degenerate_threshold(),
-            swap: index == 1,
+            thread2: index == 1,
             points: points
                 .iter()
                 .map(|&(c, s, w)| [c as f32, s as f32, w as f32])
                 .collect(),
-        }
-    }
-
-    /// The thread's base tangent t0 and rotation axis b.
-    pub fn axes(&self) -> (Vec3, Vec3) {
-        if self.swap {
-            (Vec3::Y, Vec3::X)
-        } else {
-            (Vec3::X, Vec3::Y)
         }
     }
 
@@ -81,16 +73,15 @@ impl PointSamples {
         if self.points.is_empty() {
             return [zero; 3];
         }
-        let lanes = |w: &[Vec3], f: fn(Vec3) -> f32| L::from_fn(|k| f(w[k]));
-        let along: fn(Vec3) -> f32 = if self.swap { |w| w.y } else { |w| w.x };
-        let across: fn(Vec3) -> f32 = if self.swap { |w| w.x } else { |w| w.y };
+        let [ti0, bi, zi] = lanes_in_thread_axes::<L>(self.thread2, wi);
+        let [to0, bo, zo] = lanes_in_thread_axes::<L>(self.thread2, wo);
         let pair = Pair {
-            ti0: lanes(wi, along),
-            zi: lanes(wi, |w| w.z),
-            bi: lanes(wi, across),
-            to0: lanes(wo, along),
-            zo: lanes(wo, |w| w.z),
-            bo: lanes(wo, across),
+            ti0,
+            zi,
+            bi,
+            to0,
+            zo,
+            bo,
         };
         let (par_i, par_o) = (
             (pair.ti0 * pair.ti0 + pair.zi * pair.zi).sqrt(),

@@ -335,15 +335,17 @@ impl Geometry {
         sums
     }
 
-    /// [`TableLookup::terms_f32`] of `L::WIDTH` pairs, the sloped tables' coordinates
-    /// located for all lanes together.
+    /// [`TableLookup::terms_f32`] of the `L::WIDTH` pairs `wi`, `wo` into `terms` (one per
+    /// pair, left as they are where Q = 0, so the caller passes zeros), the sloped tables'
+    /// coordinates located for all lanes together.
     #[inline(always)]
-    fn terms_lanes<L: Lanes, const N: usize>(
+    fn terms_lanes<L: Lanes>(
         &self,
         planes: &[Plane],
-        wi: &[Vec3; N],
-        wo: &[Vec3; N],
-    ) -> [[f32; 3]; N] {
+        wi: &[Vec3],
+        wo: &[Vec3],
+        terms: &mut [[f32; 3]],
+    ) {
         let locate = |j: usize| {
             let slopes = self.threads[j].slopes.as_ref();
             slopes.map(|s| s.geometry.locate_f32::<L>(&s.fast_axes, wi, wo))
@@ -352,7 +354,6 @@ impl Geometry {
         let points = |j: usize| self.threads[j].samples.sums::<L>(wi, wo);
         let points = [points(0), points(1)];
         let a = self.coverage.map(|a| a as f32);
-        let mut terms = [[0.0; 3]; N];
         for (k, terms) in terms.iter_mut().enumerate() {
             let sums =
                 |j: usize| self.thread_sums_f32(planes, j, &points[j], located[j].as_ref(), k);
@@ -366,7 +367,6 @@ impl Geometry {
                 ];
             }
         }
-        terms
     }
 
     /// `cloth_split_threadJ(wi, wo)`: thread j's sums as [`Self::thread_sums`], in WGSL.
@@ -391,7 +391,7 @@ impl Geometry {
             thread.slopes.as_ref().map_or(0.0, |s| s.weight)
         );
         if !thread.points.is_empty() {
-            let (t0, b) = thread.samples.axes();
+            let (t0, b) = thread_frame::thread_frame_of(j);
             let _ = write!(
                 f,
                 "    let material = {};\n    \
@@ -457,7 +457,9 @@ impl TableLookup for Geometry {
     }
 
     fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3] {
-        self.terms_lanes::<f32, 1>(planes, &[wi], &[wo])[0]
+        let mut terms = [[0.0; 3]];
+        self.terms_lanes::<f32>(planes, &[wi], &[wo], &mut terms);
+        terms[0]
     }
 
     fn terms_f32_lanes(
@@ -466,7 +468,9 @@ impl TableLookup for Geometry {
         wi: &[Vec3; BATCH_LANES],
         wo: &[Vec3; BATCH_LANES],
     ) -> [[f32; 3]; BATCH_LANES] {
-        self.terms_lanes::<BatchLanes, BATCH_LANES>(planes, wi, wo)
+        let mut terms = [[0.0; 3]; BATCH_LANES];
+        self.terms_lanes::<BatchLanes>(planes, wi, wo, &mut terms);
+        terms
     }
 
     fn wgsl_constants(&self) -> String {

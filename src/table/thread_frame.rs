@@ -211,12 +211,24 @@ pub struct ThreadGeometry {
     pub masking_axis: Axis,
 }
 
-fn thread_frame_of(index: usize) -> (DVec3, DVec3) {
+/// Thread `index`'s base tangent t0 and rotation axis b: thread 1 runs along x, thread 2
+/// along y.
+pub(crate) fn thread_frame_of(index: usize) -> (DVec3, DVec3) {
     if index == 0 {
         (DVec3::X, DVec3::Y)
     } else {
         (DVec3::Y, DVec3::X)
     }
+}
+
+/// The components (w·t0, w·b, w·z) of the `L::WIDTH` directions `w` in the axes of thread 1
+/// (t0 = x, b = y), or of thread 2 (t0 = y, b = x) when `thread2`, one lane per direction.
+#[inline(always)]
+pub(crate) fn lanes_in_thread_axes<L: Lanes>(thread2: bool, w: &[Vec3]) -> [L; 3] {
+    let lanes = |f: fn(Vec3) -> f32| L::from_fn(|k| f(w[k]));
+    let along: fn(Vec3) -> f32 = if thread2 { |w| w.y } else { |w| w.x };
+    let across: fn(Vec3) -> f32 = if thread2 { |w| w.x } else { |w| w.y };
+    [lanes(along), lanes(across), lanes(|w| w.z)]
 }
 
 /// The band of βH where thread `index`'s ridges lie, and its σs (radians).
@@ -391,13 +403,9 @@ impl ThreadGeometry {
         wi: &[Vec3],
         wo: &[Vec3],
     ) -> LocatedPairs<L> {
-        let swap = self.t0 != DVec3::X;
-        let lanes = |w: &[Vec3], f: fn(Vec3) -> f32| L::from_fn(|k| f(w[k]));
-        // (w·t0, w·b): thread 1 runs along x, thread 2 along y.
-        let along: fn(Vec3) -> f32 = if swap { |w| w.y } else { |w| w.x };
-        let across: fn(Vec3) -> f32 = if swap { |w| w.x } else { |w| w.y };
-        let (wi_t, wi_b, wi_z) = (lanes(wi, along), lanes(wi, across), lanes(wi, |w| w.z));
-        let (wo_t, wo_b, wo_z) = (lanes(wo, along), lanes(wo, across), lanes(wo, |w| w.z));
+        let thread2 = self.t0 != DVec3::X;
+        let [wi_t, wi_b, wi_z] = lanes_in_thread_axes::<L>(thread2, wi);
+        let [wo_t, wo_b, wo_z] = lanes_in_thread_axes::<L>(thread2, wo);
         let (half, one) = (L::splat(0.5), L::splat(1.0));
         let (h_t, h_z) = (wi_t + wo_t, wi_z + wo_z);
         let r = one / (h_t * h_t + h_z * h_z).max(L::splat(1e-37)).sqrt();
