@@ -4,23 +4,26 @@
 // `ResonantRule::means`/`segment` (same node placement, same thresholds) and
 // `ThreadModel::sample`/`pair_frame` of src/model/patch.rs.
 //
-// This file is a template: src/gpu/resonant.rs prepends, per fabric and node counts, the
-// constants it names (`CLOTH_RESONANT_*`: thresholds from the Rust constants, the
-// Gauss–Legendre rules computed in f64 and rounded, both threads' parameters) and the two
+// This file is a template: src/table/resonant_kernel.rs generates, per fabric and node
+// counts, the constants it names (`CLOTH_RESONANT_*`: thresholds from the Rust constants, the
+// Gauss–Legendre rules computed in f64 and rounded, the threads' parameters) and the
 // functions `cloth_resonant_means_0/1`, which call `cloth_resonant_point` and
 // `cloth_resonant_segment` once per curve piece of the thread (the fabric's curve unrolled).
+// Two shaders use it: the resonant quadrature's own (src/gpu/resonant.rs, with
+// shaders/resonant_brdf.wgsl) and split_frame's lookup, for the sloped segments of pairs in
+// its horizon band (src/table/split_frame.rs).
 //
 // Where f32 would lose what f64 keeps:
 // - Φ in the lower tail comes from erfc of a positive argument (relative accuracy ~1e-7
 //   down to Φ ≈ 1e-38), and the segment is reflected to lie in the lower tail as on the
 //   CPU; a node past the median is placed from the complement 1 − t = Φ(−b) + span·(1 − x),
 //   so Φ⁻¹ never sees a p near 1, where f32 has no digits left.
-// - The sample itself is sample.wgsl's (which src/gpu/resonant.rs prepends too), with its
+// - The sample itself is sample.wgsl's (which both shaders include before this file), with its
 //   f32 forms of cos²θd, 1 − Fr and the angles φd, ψd.
 //
 // Every top-level name starts with `cloth_`/`Cloth`/`CLOTH_` (the `GpuBrdf` naming contract).
 
-// One thread family (generated as CLOTH_RESONANT_THREAD_0/1).
+// One thread family (a literal in each generated `cloth_resonant_means_j`).
 struct ClothResonantThread {
     // Base tangent t0 and rotation axis b.
     t0: vec3<f32>,
@@ -160,7 +163,7 @@ fn cloth_resonant_split_count(n: u32, fraction: f32) -> u32 {
     return clamp(share, min(CLOTH_RESONANT_MIN_NODES_PER_PART, n), n);
 }
 
-// The first index of the n-point rule in CLOTH_RESONANT_GL (n ≥ 1).
+// The first index of the n-point rule in `cloth_resonant_gl` (n ≥ 1).
 fn cloth_resonant_rule_start(n: u32) -> u32 {
     return n * (n - 1u) / 2u;
 }
@@ -212,7 +215,11 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
         return vec3<f32>(0.0);
     }
     // `Segment::inner_cuts`: the kinks strictly inside [lo, hi], increasing, then hi.
-    var cuts = array<f32, 3>(hi, hi, hi);
+    // Small arrays are vectors here (indexed alike): naga declares a local array that is
+    // not initialised from constants with the zero value `(float[3])0` in HLSL, which
+    // glslang's HLSL front end does not parse, and the lookups of split_frame tables, which
+    // include this kernel, are translated to HLSL (`clothbake wgsl --lang hlsl`).
+    var cuts = vec3<f32>(hi);
     var n_cuts = 0u;
     for (var k = 0u; k < 2u; k++) {
         let c = p.kinks[k];
@@ -244,7 +251,7 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
         // w = side·z, clamped to ±LOBE_Z_RANGE, increasing (t = Φ(w)).
         let side = select(1.0, -1.0, z_lo > 0.0);
         let range = CLOTH_RESONANT_LOBE_Z_RANGE;
-        var ends = array<f32, 4>();
+        var ends = vec4<f32>(0.0);
         ends[0] = clamp(select(z_lo, -z_hi, side < 0.0), -range, range);
         for (var k = 0u; k < n_cuts; k++) {
             let zc = (theta_c + slope * (cuts[k] - centre)) / sigma;
@@ -257,11 +264,14 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
         }
         ends[n_cuts + 1u] = clamp(select(z_hi, -z_lo, side < 0.0), -range, range);
         // (Φ(w), Φ(−w)) at each end.
-        var cdf = array<vec2<f32>, 4>();
+        var cdf = vec4<f32>(0.0);
+        var cdf_complement = vec4<f32>(0.0);
         for (var k = 0u; k <= n_cuts + 1u; k++) {
-            cdf[k] = cloth_resonant_cdf_pair(ends[k]);
+            let pair = cloth_resonant_cdf_pair(ends[k]);
+            cdf[k] = pair.x;
+            cdf_complement[k] = pair.y;
         }
-        let mass = cdf[n_cuts + 1u].x - cdf[0].x;
+        let mass = cdf[n_cuts + 1u] - cdf[0];
         // The lobe's mass in the segment sets how many of its nodes the segment gets.
         var n = CLOTH_RESONANT_NODES[lobe];
         if mass < CLOTH_RESONANT_TAIL_MASS / 8.0 {
@@ -270,12 +280,12 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
             n = (n + 1u) / 2u;
         }
         for (var part = 0u; part <= n_cuts; part++) {
-            let ta = cdf[part].x;
-            let tb = cdf[part + 1u].x;
+            let ta = cdf[part];
+            let tb = cdf[part + 1u];
             // 1 − tb = Φ(−wb), accurate where tb is near 1.
-            let ub = cdf[part + 1u].y;
+            let ub = cdf_complement[part + 1u];
             // A part wholly above the median takes its width from the complements.
-            let width = select(tb - ta, cdf[part].y - ub, ends[part] >= 0.0);
+            let width = select(tb - ta, cdf_complement[part] - ub, ends[part] >= 0.0);
             if !(width > 0.0) {
                 continue;
             }
@@ -284,7 +294,7 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
             // dα = (σ/k) dz and dz = dt/φ(z).
             let scale = density * width * sigma / slope;
             for (var k = first; k < first + count; k++) {
-                let node = CLOTH_RESONANT_GL[k];
+                let node = cloth_resonant_gl(k);
                 let t = ta + width * node.x;
                 var zn: f32;
                 if t <= 0.5 {
@@ -327,7 +337,7 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
         let count = cloth_resonant_split_count(base_count, width / (hi - lo));
         let first = cloth_resonant_rule_start(count);
         for (var k = first; k < first + count; k++) {
-            let node = CLOTH_RESONANT_GL[k];
+            let node = cloth_resonant_gl(k);
             let weight = density * width * node.y;
             let s = cloth_resonant_sample(thread, p, a + width * node.x);
             sums.z += weight * s.x;
@@ -341,22 +351,4 @@ fn cloth_resonant_segment(thread: ClothResonantThread, p: ClothResonantPair, sta
         }
     }
     return sums;
-}
-
-// `Patch::eval`: F = [a1⟨s⟩1 + a2⟨s⟩2]/Q, Q = a1⟨P⟩1 + a2⟨P⟩2 + gap·wo.z; 0 below the
-// horizon and where Q = 0.
-fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
-    if wi.z <= 0.0 || wo.z <= 0.0 {
-        return vec3<f32>(0.0);
-    }
-    let m1 = cloth_resonant_means_0(wi, wo);
-    let m2 = cloth_resonant_means_1(wi, wo);
-    let a1 = CLOTH_RESONANT_COVERAGE.x;
-    let a2 = CLOTH_RESONANT_COVERAGE.y;
-    let q = a1 * m1.z + a2 * m2.z + CLOTH_RESONANT_GAP * wo.z;
-    if q <= 0.0 {
-        return vec3<f32>(0.0);
-    }
-    return vec3<f32>((a1 * m1.x + a2 * m2.x) / q) + CLOTH_RESONANT_ALBEDO_0 * (a1 * m1.y / q)
-        + CLOTH_RESONANT_ALBEDO_1 * (a2 * m2.y / q);
 }

@@ -12,25 +12,23 @@
 //! its node sets at the pair's kinks as `ResonantRule::segment` does). Everything is a
 //! constant, so group 0 is empty.
 
-use super::direct::{degenerate_threshold, unit_area_gaussian};
 use super::{GpuBrdf, GpuContext, GpuError};
-use crate::model::curve::{Integration, curve_pieces};
-use crate::model::resonant::{
-    FLAT_LOBE_SPAN, GaussLegendre, LOBE_Z_RANGE, MIN_NODES_PER_PART, NEGLIGIBLE_LOBE_Z,
-    ResonantNodes, SPLIT_TOLERANCE, TAIL_MASS,
+use crate::model::Fabric;
+use crate::model::resonant::ResonantNodes;
+use crate::table::resonant_kernel::{
+    RESONANT_KERNEL_WGSL, resonant_rules_wgsl, resonant_thread_wgsl,
 };
-use crate::model::{Fabric, Thread};
 use crate::table::wgsl::{wgsl_f32, wgsl_vec};
 use std::fmt::Write;
 
-/// The template of the resonant shader (defines `cloth_brdf` once the generated constants are
-/// prepended).
-pub const RESONANT_WGSL: &str = include_str!("../../shaders/resonant.wgsl");
+/// The resonant shader's `cloth_brdf`, after the kernel.
+const RESONANT_BRDF_WGSL: &str = include_str!("../../shaders/resonant_brdf.wgsl");
 
-/// The constants and per-thread functions for `fabric` at `nodes`, followed by the template:
-/// the complete WGSL module of [`GpuResonant`]. `fabric` must be valid.
+/// The kernel's constants and per-thread functions for `fabric` at `nodes`
+/// ([`crate::table::resonant_kernel`]), the constants of `cloth_brdf` (coverage, gap,
+/// albedos), the sample and the kernel templates and `cloth_brdf`: the complete WGSL module
+/// of [`GpuResonant`]. `fabric` must be valid.
 pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
-    let options = fabric.options;
     let mut out = String::new();
     let w = &mut out;
     let _ = writeln!(
@@ -39,126 +37,30 @@ pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
          (surface/volume/base).",
         fabric.name
     );
-    let sigma_u = options.sigma_u_deg.to_radians();
     let gap = (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0);
-    let consts = [
-        ("CLOTH_RESONANT_K_U", (-0.5 / (sigma_u * sigma_u)) as f32),
-        ("CLOTH_RESONANT_THRESHOLD", degenerate_threshold()),
-        ("CLOTH_RESONANT_FLAT_LOBE_SPAN", FLAT_LOBE_SPAN as f32),
-        ("CLOTH_RESONANT_NEGLIGIBLE_LOBE_Z", NEGLIGIBLE_LOBE_Z as f32),
-        ("CLOTH_RESONANT_TAIL_MASS", TAIL_MASS as f32),
-        ("CLOTH_RESONANT_LOBE_Z_RANGE", LOBE_Z_RANGE as f32),
-        ("CLOTH_RESONANT_SPLIT_TOLERANCE", SPLIT_TOLERANCE as f32),
-        ("CLOTH_RESONANT_GAP", gap as f32),
-    ];
-    for (name, value) in consts {
-        let _ = writeln!(w, "const {name}: f32 = {};", wgsl_f32(value));
-    }
     let _ = writeln!(
         w,
-        "const CLOTH_RESONANT_MIN_NODES_PER_PART: u32 = {MIN_NODES_PER_PART}u;\n\
-         const CLOTH_RESONANT_NODES: vec3<u32> = vec3<u32>({}u, {}u, {}u);",
-        nodes.surface, nodes.volume, nodes.base
-    );
-    let _ = writeln!(
-        w,
-        "const CLOTH_RESONANT_COVERAGE: vec2<f32> = {};",
-        wgsl_vec(&[
-            fabric.thread1.coverage as f32,
-            fabric.thread2.coverage as f32
-        ])
+        "const CLOTH_RESONANT_GAP: f32 = {};\n\
+         const CLOTH_RESONANT_COVERAGE: vec2<f32> = {};",
+        wgsl_f32(gap),
+        wgsl_vec(&[fabric.thread1.coverage, fabric.thread2.coverage])
     );
     for (j, thread) in fabric.threads().into_iter().enumerate() {
-        let albedo = thread.albedo_rgb().map(|c| c as f32);
         let _ = writeln!(
             w,
             "const CLOTH_RESONANT_ALBEDO_{j}: vec3<f32> = {};",
-            wgsl_vec(&albedo)
+            wgsl_vec(&thread.albedo_rgb())
         );
     }
-    // The n-point rules for every count a part can get, n = 1..=max(surface, volume, base)
-    // (`ResonantRule::rule`; tail rules and kink splits only lower a count), flattened: the
-    // n-point rule starts at n(n − 1)/2.
-    let max = nodes.surface.max(nodes.volume).max(nodes.base) as usize;
-    let mut gl = Vec::new();
-    for n in 1..=max {
-        let rule = GaussLegendre::new(n);
-        for (&x, &wt) in rule.nodes.iter().zip(&rule.weights) {
-            gl.push(wgsl_vec(&[x as f32, wt as f32]));
-        }
+    out += &resonant_rules_wgsl(&fabric.options, nodes);
+    for j in 0..2 {
+        out += &resonant_thread_wgsl(fabric, j, nodes);
     }
-    debug_assert_eq!(gl.len(), max * (max + 1) / 2);
-    let _ = writeln!(
-        w,
-        "// Gauss–Legendre nodes on [0, 1] and weights (summing to 1 per rule), the n-point \
-         rule at n(n − 1)/2, n = 1..={max}.\n\
-         const CLOTH_RESONANT_GL = array<vec2<f32>, {}>(\n    {});",
-        gl.len(),
-        gl.join(",\n    ")
-    );
-    for (j, thread) in fabric.threads().into_iter().enumerate() {
-        thread_wgsl(w, fabric, thread, j, nodes);
+    for part in [super::SAMPLE_WGSL, RESONANT_KERNEL_WGSL, RESONANT_BRDF_WGSL] {
+        out.push('\n');
+        out.push_str(part);
     }
-    out.push('\n');
-    out.push_str(super::SAMPLE_WGSL);
-    out.push('\n');
-    out.push_str(RESONANT_WGSL);
     out
-}
-
-/// `CLOTH_RESONANT_THREAD_j` and `cloth_resonant_means_j` of thread `j`.
-fn thread_wgsl(w: &mut String, fabric: &Fabric, thread: &Thread, j: usize, nodes: ResonantNodes) {
-    let options = fabric.options;
-    let (t0, b) = if j == 0 {
-        ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
-    } else {
-        ([0.0, 1.0, 0.0], [1.0, 0.0, 0.0])
-    };
-    let sigma_s = options.lobe_sigma_deg(thread.gamma_s_deg).to_radians();
-    let sigma_v = options.lobe_sigma_deg(thread.gamma_v_deg).to_radians();
-    let [ks, ps] = unit_area_gaussian(sigma_s);
-    let [kv, pv] = unit_area_gaussian(sigma_v);
-    let no_interface = if thread.eta == 1.0 { 1.0 } else { 0.0 };
-    let _ = writeln!(
-        w,
-        "const CLOTH_RESONANT_THREAD_{j} = ClothResonantThread({}, {}, {}, {}, {});",
-        wgsl_vec(&t0),
-        wgsl_vec(&b),
-        wgsl_vec(&[sigma_s as f32, sigma_v as f32]),
-        wgsl_vec(&[ks, ps, kv, pv]),
-        wgsl_vec(&[thread.eta as f32, thread.kd as f32, no_interface, 0.0])
-    );
-    let _ = writeln!(
-        w,
-        "// `ThreadModel::means` of thread {}: (⟨reflection⟩, ⟨transmission⟩, ⟨P⟩).\n\
-         fn cloth_resonant_means_{j}(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {{\n    \
-         let thread = CLOTH_RESONANT_THREAD_{j};\n    \
-         let pair = cloth_resonant_pair(thread, wi, wo);\n    \
-         var sums = vec3<f32>(0.0);\n    \
-         if pair.valid == 0u {{\n        return sums;\n    }}",
-        j + 1
-    );
-    for piece in curve_pieces(thread, &options, Integration::Resonant(nodes)) {
-        if piece.start == piece.end {
-            let _ = writeln!(
-                w,
-                "    sums += cloth_resonant_point(thread, pair, {}, {});",
-                wgsl_f32(piece.start as f32),
-                wgsl_f32(piece.weight as f32)
-            );
-        } else {
-            // The density per radian in f64, as `ResonantRule::segment` forms it.
-            let density = piece.weight / (piece.end - piece.start);
-            let _ = writeln!(
-                w,
-                "    sums += cloth_resonant_segment(thread, pair, {}, {}, {});",
-                wgsl_f32(piece.start as f32),
-                wgsl_f32(piece.end as f32),
-                wgsl_f32(density as f32)
-            );
-        }
-    }
-    let _ = writeln!(w, "    return sums;\n}}");
 }
 
 /// The resonant quadrature evaluated in the shader, a [`GpuBrdf`] with an empty group 0 (the
@@ -227,6 +129,7 @@ impl GpuBrdf for GpuResonant {
 mod tests {
     use super::*;
     use crate::fabric_file::FabricSet;
+    use crate::model::curve::{Integration, curve_pieces};
 
     #[test]
     fn every_builtin_fabric_generates_one_call_per_piece() {
