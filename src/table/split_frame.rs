@@ -122,7 +122,11 @@ impl LayoutUnit for SplitFrame {
     }
 
     fn report_resolutions(&self, quick: bool) -> &'static [u32] {
-        if quick { &[16, 32] } else { &[16, 24, 32, 40] }
+        if quick {
+            &[16, 32]
+        } else {
+            &[16, 20, 24, 32, 40]
+        }
     }
 
     fn integration(&self) -> &'static str {
