@@ -3,7 +3,7 @@
 #   scripts/setup.sh cargo run --release -- bake
 #   scripts/setup.sh scripts/test.sh
 #
-# - Rust (rustup, minimal profile) when cargo is missing;
+# - Rust (rustup, minimal profile) when cargo is missing or older than the workspace needs;
 # - Mesa's lavapipe Vulkan driver (mesa-vulkan-drivers, libvulkan1) so that wgpu finds an
 #   adapter without a GPU; installing it also upgrades the Mesa packages already present,
 #   which must match;
@@ -32,13 +32,23 @@ if ((${#missing[@]})); then
         "${missing[@]}" >&2
 fi
 
-if ! command -v cargo >/dev/null; then
-    if [[ ! -x $HOME/.cargo/bin/cargo ]]; then
-        echo "setup: installing Rust with rustup" >&2
+# The newest rust-version among the workspace's crates (the Bevy plugin's), which an older
+# cargo already on the machine (Debian's own, say) cannot build: then rustup's stable.
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+need=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' "$root/Cargo.toml" "$root"/crates/*/Cargo.toml |
+    sort -V | tail -n 1)
+have=$(cargo --version 2>/dev/null | awk '{print $2}' || true)
+if [[ -z $have || $(printf '%s\n%s\n' "$need" "$have" | sort -V | head -n 1) != "$need" ]]; then
+    export PATH="$HOME/.cargo/bin:$PATH"
+    if [[ ! -x $HOME/.cargo/bin/rustup ]]; then
+        echo "setup: installing Rust $need or newer with rustup (found: ${have:-none})" >&2
         curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs |
             sh -s -- -y --profile minimal --no-modify-path >&2
+    else
+        echo "setup: updating rustup's stable Rust (need $need, found: ${have:-none})" >&2
+        rustup toolchain install stable --profile minimal >&2
+        export RUSTUP_TOOLCHAIN=stable
     fi
-    export PATH="$HOME/.cargo/bin:$PATH"
 fi
 
 # Vulkan loaders warn without a runtime directory; the value does not matter headless.

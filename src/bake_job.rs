@@ -146,11 +146,11 @@ pub fn run(
     for fabric in &job.fabrics {
         let path = job.out.join(format!("{}.exr", fabric.name));
         remove_stale_temporaries(&job.out, &format!("{}.exr", fabric.name));
-        if !job.force {
-            if let Some(entry) = up_to_date(&manifest, &path, fabric, layout, job.resolution) {
-                on_outcome(fabric, &Outcome::UpToDate { path, entry });
-                continue;
-            }
+        if !job.force
+            && let Some(entry) = up_to_date(&manifest, &path, fabric, layout, job.resolution)
+        {
+            on_outcome(fabric, &Outcome::UpToDate { path, entry });
+            continue;
         }
         let started = Instant::now();
         let bake_at = |resolution: u32| -> Result<Table, BakeError> {

@@ -162,7 +162,7 @@ pub fn texture(plane: &Plane, n: usize) -> TextureData {
     // wgpu's GL backend creates square 2D textures whose layer count is a multiple of 6 as
     // cube map arrays, which a D2Array view then misreads: one unused zero layer avoids it.
     let mut layers = n * n;
-    if layers % 6 == 0 {
+    if layers.is_multiple_of(6) {
         layers += 1;
         texels.resize(texels.len() + n * n * 4, f16::ZERO);
     }

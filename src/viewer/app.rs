@@ -530,11 +530,11 @@ impl App {
                 g.window.set_title(&title);
             }
         }
-        if let Some(limit) = self.setup.frames {
-            if self.stats.frames() >= limit as u64 {
-                event_loop.exit();
-                return;
-            }
+        if let Some(limit) = self.setup.frames
+            && self.stats.frames() >= limit as u64
+        {
+            event_loop.exit();
+            return;
         }
         if let Some(g) = &self.graphics {
             g.window.request_redraw();
