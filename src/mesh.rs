@@ -492,12 +492,13 @@ mod tests {
 
     #[test]
     fn obj_with_uvs_gets_tangents_along_u() {
-        let dir = std::env::temp_dir().join(format!("clothbake-mesh-{}", std::process::id()));
+        let scratch = tempfile::tempdir().unwrap();
+        let dir = scratch.path();
         // A unit quad in the xz plane, u along -z, v along +x: the tangent must be -z.
         let quad = "v 0 0 0\nv 1 0 0\nv 1 0 -1\nv 0 0 -1\n\
                     vt 0 0\nvt 0 1\nvt 1 1\nvt 1 0\n\
                     f 1/1 2/2 3/3 4/4\n";
-        let mesh = Mesh::load_obj(&write(&dir, "quad.obj", quad)).unwrap();
+        let mesh = Mesh::load_obj(&write(dir, "quad.obj", quad)).unwrap();
         check_frames(&mesh);
         assert_eq!(mesh.triangle_count(), 2);
         for v in &mesh.vertices {
@@ -509,7 +510,8 @@ mod tests {
 
     #[test]
     fn bad_obj_files_are_rejected_with_a_reason() {
-        let dir = std::env::temp_dir().join(format!("clothbake-badmesh-{}", std::process::id()));
+        let scratch = tempfile::tempdir().unwrap();
+        let dir = scratch.path();
         let cases = [
             (
                 "nouv.obj",
@@ -534,7 +536,7 @@ mod tests {
             ("empty.obj", "# nothing\n", "no triangles"),
         ];
         for (name, text, reason) in cases {
-            let error = Mesh::load_obj(&write(&dir, name, text))
+            let error = Mesh::load_obj(&write(dir, name, text))
                 .expect_err(name)
                 .to_string();
             assert!(error.contains(name) && error.contains(reason), "{error}");

@@ -525,8 +525,8 @@ mod tests {
 
     #[test]
     fn mesh_path_is_resolved_against_the_scene_directory() {
-        let dir = std::env::temp_dir().join(format!("clothbake-scene-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let scratch = tempfile::tempdir().unwrap();
+        let dir = scratch.path();
         let path = dir.join("scene.toml");
         std::fs::write(
             &path,

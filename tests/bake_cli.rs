@@ -70,7 +70,6 @@ fn unchanged_fabrics_are_not_baked_again_and_changed_ones_are() {
         "{}",
         output_text(&check)
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -123,7 +122,6 @@ fn scene_bakes_only_its_fabrics_and_error_budget_picks_a_resolution() {
         last.1 <= 0.5 && earlier.iter().all(|(_, e)| *e > 0.5),
         "{tried:?}"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -180,7 +178,6 @@ fn bad_arguments_and_scene_files_exit_non_zero_with_a_message() {
             output_text(&result)
         );
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Kill bakes at several moments, including while the table is being written: the table
@@ -269,7 +266,6 @@ fn interrupted_bake_leaves_the_previous_table_loadable() {
         kills >= 2,
         "bakes finished too fast to be interrupted: {kills} killed"
     );
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// `clothbake wgsl` prints exactly the shader the runtime uses for the table, and refuses a

@@ -184,8 +184,7 @@ fn bad_arguments_and_fabric_files_exit_non_zero() {
             stderr(&out)
         );
     }
-    let dir = std::env::temp_dir().join(format!("clothbake-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("cli");
     let path = dir.join("bad.toml");
     let text = clothbake::fabric_file::BUILTIN_FABRICS_TOML.replacen("kd = 0.3", "kd = 3.0", 1);
     std::fs::write(&path, text).unwrap();
@@ -209,7 +208,6 @@ fn bad_arguments_and_fabric_files_exit_non_zero() {
         "",
     );
     assert!(!out.status.success() && stderr(&out).contains("cannot read fabric file"));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -348,8 +346,7 @@ fn sample_rejects_bad_lines_and_albedo_prints_the_curve() {
 fn bad_environments_are_refused_by_name() {
     // Untrusted environment files: missing, truncated, and an unknown kind; and a sample
     // count out of range. Each exits non-zero before any rendering, naming what is wrong.
-    let dir = std::env::temp_dir().join(format!("clothbake-cli-env-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("cli-env");
     let truncated = dir.join("truncated.hdr");
     std::fs::write(
         &truncated,
@@ -384,5 +381,4 @@ fn bad_environments_are_refused_by_name() {
         "{}",
         stderr(&out)
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -193,8 +193,7 @@ fn unknown_keys_missing_fields_duplicates_and_empty_files_are_rejected() {
 
 #[test]
 fn oversized_and_missing_files_are_rejected_before_reading() {
-    let dir = std::env::temp_dir().join(format!("clothbake-fabric-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::temp_dir("fabric");
     let big = dir.join("big.toml");
     let file = std::fs::File::create(&big).unwrap();
     file.set_len(clothbake::fabric_file::MAX_FABRIC_FILE_BYTES + 1)
@@ -207,7 +206,6 @@ fn oversized_and_missing_files_are_rejected_before_reading() {
         FabricSet::load(&dir.join("missing.toml")),
         Err(FabricFileError::Io { .. })
     ));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 proptest! {

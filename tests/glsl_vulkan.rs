@@ -600,6 +600,5 @@ fn glsl_translation_on_vulkan_agrees_with_wgsl_pair_by_pair() {
             }
         }
     }
-    std::fs::remove_dir_all(&dir).unwrap();
     assert!(failures.is_empty(), "{failures:?}");
 }

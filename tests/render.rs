@@ -381,9 +381,7 @@ fn clothbake(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn render_command_writes_frame_reference_and_error_map_or_explains_what_is_missing() {
-    let dir = std::env::temp_dir().join(format!("clothbake-render-cli-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("render-cli");
     let d = |name: &str| dir.join(name).to_str().unwrap().to_string();
     // No table yet: the message says to bake.
     let missing = clothbake(&[

@@ -178,7 +178,6 @@ fn bake_is_identical_for_one_and_two_threads() {
         let bytes = |name: &str| std::fs::read(dir.join(name)).unwrap();
         assert_eq!(bytes("a.exr"), bytes("b.exr"), "{layout}");
     }
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -203,7 +202,6 @@ fn exr_round_trip_keeps_texels_and_provenance() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     assert_eq!(names, ["satin.exr"]);
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Every damaged variant gives an error naming the file, never a panic.
@@ -252,7 +250,6 @@ fn damaged_files_are_rejected() {
         variants.len()
     );
     assert!(rejected >= variants.len() / 2);
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Single flipped bits anywhere in a thread_frame table (seeded positions): each file is
@@ -286,7 +283,6 @@ fn single_bit_flips_never_load_other_texels() {
         }
     }
     println!("300 single-bit flips: {rejected} rejected, {unchanged} decode to the same table");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -425,7 +421,6 @@ fn wrong_channels_dimensions_attributes_and_nan_texels_are_rejected() {
         read_table(&dir.join("missing.exr")),
         Err(TableFileError::Io { .. })
     ));
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// A header claiming an absurd data window is rejected before anything is sized by it.
@@ -451,7 +446,6 @@ fn absurd_header_dimensions_are_rejected_without_allocating() {
         .to_string();
     println!("{message}");
     assert!(message.contains("absurd.exr"), "{message}");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 /// Whether a pair is one the f32 lookup is not held to (see the test below): Q positive but

@@ -150,7 +150,6 @@ fn view_draws_the_requested_frames_under_xvfb() {
     assert!(frames >= 30, "drew {frames} frames: {all}");
     assert!(all.contains("median frame time"), "{all}");
     assert!(all.contains("keys:"), "no key list: {all}");
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 #[test]
@@ -202,5 +201,4 @@ fn view_without_tables_or_display_fails_with_a_clear_message() {
     assert!(!output.status.success(), "view without a display succeeded");
     assert!(all.contains("cannot open a window"), "{all}");
     assert!(!all.contains("panicked"), "{all}");
-    std::fs::remove_dir_all(dir).unwrap();
 }

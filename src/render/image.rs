@@ -385,8 +385,8 @@ mod tests {
 
     #[test]
     fn exr_round_trip_keeps_f16_values() {
-        let dir = std::env::temp_dir().join(format!("clothbake-image-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let scratch = tempfile::tempdir().unwrap();
+        let dir = scratch.path();
         let path = dir.join("linear.exr");
         let original = LinearImage {
             width: 3,

@@ -234,12 +234,12 @@ mod tests {
 
     #[test]
     fn missing_tables_say_how_to_bake_them() {
-        let dir = std::env::temp_dir().join(format!("clothbake-view-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let scratch = tempfile::tempdir().unwrap();
+        let dir = scratch.path();
         let options = ViewOptions {
             scene: Scene::builtin(),
             fabric: Some("velvet".into()),
-            tables: dir.clone(),
+            tables: dir.to_path_buf(),
             mesh: None,
             frames: Some(1),
             samples: DEFAULT_SAMPLES,
@@ -264,6 +264,5 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("absent") && e.contains("does not exist"), "{e}");
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }

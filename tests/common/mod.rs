@@ -10,7 +10,7 @@ use clothbake::gpu::{GpuBrdf, GpuContext, evaluate_pairs};
 use clothbake::model::Patch;
 use clothbake::model::{Fabric, Thread};
 use glam::{DVec3, Vec3};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Output;
 
 /// A device on whatever adapter wgpu finds, which the test prints; a test that needs one
@@ -29,12 +29,31 @@ pub fn gpu_context() -> GpuContext {
     }
 }
 
-/// A fresh, empty directory `clothbake-LABEL-PID` under the system's temporary directory.
-pub fn temp_dir(label: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("clothbake-{label}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh, empty directory `clothbake-LABEL-XXXXXX` under the system's temporary
+/// directory, removed with everything in it when dropped (also when the test fails).
+pub fn temp_dir(label: &str) -> ScratchDir {
+    ScratchDir(
+        tempfile::Builder::new()
+            .prefix(&format!("clothbake-{label}-"))
+            .tempdir()
+            .unwrap(),
+    )
+}
+
+/// A temporary directory that reads as its path (`dir.join(..)`, `&dir`).
+pub struct ScratchDir(tempfile::TempDir);
+
+impl std::ops::Deref for ScratchDir {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<Path> for ScratchDir {
+    fn as_ref(&self) -> &Path {
+        self.0.path()
+    }
 }
 
 /// A command's standard output followed by its standard error.
