@@ -7,5 +7,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo test --release --locked
-cargo test --release --locked --no-default-features
+# Without the runtime: every test target must still build, and what the feature changes
+# runs again (the library's own tests, the CLI without `render`/`view`/`report`, the WGSL
+# translations). The numerical suites (accuracy, resonant, sampling, stability, table)
+# run the same core code as above and are not repeated: about 4 minutes on 2 cores.
+cargo test --release --locked --no-default-features --no-run
+cargo test --release --locked --no-default-features --lib --bins \
+    --test cli --test bake_cli --test shader_language --test fabric_file --test environment
 cargo test --release --locked -p clothbake_bevy
