@@ -37,15 +37,21 @@ fi
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 need=$(sed -n 's/^rust-version = "\(.*\)"/\1/p' "$root/Cargo.toml" "$root"/crates/*/Cargo.toml |
     sort -V | tail -n 1)
-have=$(cargo --version 2>/dev/null | awk '{print $2}' || true)
-if [[ -z $have || $(printf '%s\n%s\n' "$need" "$have" | sort -V | head -n 1) != "$need" ]]; then
+cargo_is_new_enough() {
+    local have
+    have=$(cargo --version 2>/dev/null | awk '{print $2}' || true)
+    [[ -n $have && $(printf '%s\n%s\n' "$need" "$have" | sort -V | head -n 1) == "$need" ]]
+}
+if ! cargo_is_new_enough; then
     export PATH="$HOME/.cargo/bin:$PATH"
-    if [[ ! -x $HOME/.cargo/bin/rustup ]]; then
-        echo "setup: installing Rust $need or newer with rustup (found: ${have:-none})" >&2
+    if cargo_is_new_enough; then
+        : # rustup's cargo, not yet on PATH
+    elif [[ ! -x $HOME/.cargo/bin/rustup ]]; then
+        echo "setup: installing Rust $need or newer with rustup" >&2
         curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs |
             sh -s -- -y --profile minimal --no-modify-path >&2
     else
-        echo "setup: updating rustup's stable Rust (need $need, found: ${have:-none})" >&2
+        echo "setup: installing rustup's stable Rust (need $need or newer)" >&2
         rustup toolchain install stable --profile minimal >&2
         export RUSTUP_TOOLCHAIN=stable
     fi

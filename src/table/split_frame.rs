@@ -57,7 +57,10 @@
 //! table and one per masking plane (0–6 in all: linen and velvet 6, crepe, satin and shot
 //! silk 3), plus one evaluation of the shared sample kernel (`shaders/sample.wgsl`) per
 //! point mass (linen and velvet 0, crepe 3, satin 4, satin back 5, shot silk 3);
-//! in the horizon band, the resonant kernel instead of the sloped tables' fetches.
+//! in the horizon band, the resonant kernel instead of the sloped tables' fetches. A GPU
+//! skips that branch where no lane of a warp takes it; a software rasteriser (lavapipe)
+//! runs the kernel, masked, in every pixel, which made split_frame's frame 3–8× thread_frame's
+//! there (measured in the README, "Lookup against the direct and resonant shaders").
 
 use super::axis::AxisF32;
 use super::fast_math::Lanes;
