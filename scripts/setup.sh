@@ -42,11 +42,10 @@ cargo_is_new_enough() {
     have=$(cargo --version 2>/dev/null | awk '{print $2}' || true)
     [[ -n $have && $(printf '%s\n%s\n' "$need" "$have" | sort -V | head -n 1) == "$need" ]]
 }
+# rustup's cargo may be installed but not yet on PATH: look there before installing.
+cargo_is_new_enough || export PATH="$HOME/.cargo/bin:$PATH"
 if ! cargo_is_new_enough; then
-    export PATH="$HOME/.cargo/bin:$PATH"
-    if cargo_is_new_enough; then
-        : # rustup's cargo, not yet on PATH
-    elif [[ ! -x $HOME/.cargo/bin/rustup ]]; then
+    if [[ ! -x $HOME/.cargo/bin/rustup ]]; then
         echo "setup: installing Rust $need or newer with rustup" >&2
         curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs |
             sh -s -- -y --profile minimal --no-modify-path >&2

@@ -484,7 +484,6 @@ mod tests {
     }
 
     fn write(dir: &Path, name: &str, text: &str) -> std::path::PathBuf {
-        std::fs::create_dir_all(dir).unwrap();
         let path = dir.join(name);
         std::fs::write(&path, text).unwrap();
         path
