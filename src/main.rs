@@ -17,6 +17,7 @@ use clothbake::scene::MAX_ENVIRONMENT_SAMPLES;
 use clothbake::scene::Scene;
 use clothbake::table::Layout;
 use clothbake::table::shader_language::{ShaderLanguage, lookup_shader};
+use clothbake::table::wgsl::LookupShaderOptions;
 use clothbake::table_file::read_table;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -140,6 +141,11 @@ enum Command {
         /// Shading language: wgsl, glsl (4.50 core), hlsl (shader model 5.1) or msl (2.4).
         #[arg(long, default_value = "wgsl")]
         lang: ShaderLanguage,
+        /// Leave split_frame's horizon band out: pairs within 1° of the horizon read the
+        /// table like every other (for software rasterisers, which run the band's resonant
+        /// kernel in every pixel).
+        #[arg(long)]
+        no_horizon_band: bool,
     },
     #[cfg(feature = "runtime")]
     /// Measure speed against error for every fabric (tables of each layout over a range of
@@ -192,6 +198,8 @@ enum Command {
         /// file of f16 RGBA beside each PNG (STEM.exr; alpha 1 on cloth, 0 on background).
         #[arg(long)]
         linear: bool,
+        #[command(flatten)]
+        lookup: LookupArgs,
     },
     #[cfg(feature = "runtime")]
     /// Open an interactive window showing the scene's cloth shaded by table lookup (or by the
@@ -213,7 +221,40 @@ enum Command {
         /// resonant quadrature in the shader (key G toggles).
         #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
         shader: ShaderArg,
+        #[command(flatten)]
+        lookup: LookupArgs,
     },
+}
+
+/// How `render` and `view` build a table's lookup shader.
+#[cfg(feature = "runtime")]
+#[derive(clap::Args)]
+struct LookupArgs {
+    /// split_frame's horizon band (the resonant quadrature for pairs within 1° of the
+    /// horizon): auto leaves it out on a software rasteriser (lavapipe), which runs its
+    /// kernel in every pixel, and keeps it on a GPU.
+    #[arg(long, value_enum, default_value_t = HorizonBandArg::Auto)]
+    horizon_band: HorizonBandArg,
+}
+
+#[cfg(feature = "runtime")]
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum HorizonBandArg {
+    Auto,
+    On,
+    Off,
+}
+
+#[cfg(feature = "runtime")]
+impl LookupArgs {
+    /// `LookupShaderOptions::for_adapter`'s choice: `None` for auto.
+    fn horizon_band(&self) -> Option<bool> {
+        match self.horizon_band {
+            HorizonBandArg::Auto => None,
+            HorizonBandArg::On => Some(true),
+            HorizonBandArg::Off => Some(false),
+        }
+    }
 }
 
 /// What `render` and `view` show: a scene, its tables and optionally a user's mesh.
@@ -588,6 +629,7 @@ fn run(cli: Cli) -> Result<(), String> {
             reference,
             reference_samples,
             linear,
+            lookup,
         } => {
             let nodes = nodes.nodes(shader == RenderShaderArg::Resonant, "--shader resonant")?;
             let shader = match (shader, samples) {
@@ -608,6 +650,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 height,
                 frames,
                 shader,
+                horizon_band: lookup.horizon_band(),
                 reference,
                 reference_samples,
                 linear,
@@ -622,6 +665,7 @@ fn run(cli: Cli) -> Result<(), String> {
             frames,
             samples,
             shader,
+            lookup,
         } => view(clothbake::viewer::ViewOptions {
             scene: scene.load()?,
             fabric,
@@ -634,6 +678,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 ShaderArg::Direct => clothbake::viewer::Shading::Direct,
                 ShaderArg::Resonant => clothbake::viewer::Shading::Resonant,
             },
+            horizon_band: lookup.horizon_band(),
         }),
         #[cfg(feature = "runtime")]
         Command::Report { quick, out } => {
@@ -656,9 +701,16 @@ fn run(cli: Cli) -> Result<(), String> {
             );
             Ok(())
         }
-        Command::Wgsl { table, lang } => {
+        Command::Wgsl {
+            table,
+            lang,
+            no_horizon_band,
+        } => {
             let file = read_table(&table).map_err(|e| e.to_string())?;
-            print!("{}", lookup_shader(&file.table, lang)?);
+            let options = LookupShaderOptions {
+                horizon_band: !no_horizon_band,
+            };
+            print!("{}", lookup_shader(&file.table, lang, &options)?);
             Ok(())
         }
         Command::Check { table, pairs } => {

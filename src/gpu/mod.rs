@@ -98,6 +98,15 @@ impl AdapterDescription {
     }
 }
 
+impl AdapterDescription {
+    /// Whether the adapter is a software rasteriser (device type `Cpu`: lavapipe, llvmpipe,
+    /// WARP), which runs a shader's branches in every pixel whether or not any pixel takes
+    /// them.
+    pub fn is_software(&self) -> bool {
+        self.device_type == format!("{:?}", wgpu::DeviceType::Cpu)
+    }
+}
+
 impl fmt::Display for AdapterDescription {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(

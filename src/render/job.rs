@@ -13,6 +13,7 @@ use crate::mesh::Mesh;
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
+use crate::table::wgsl::LookupShaderOptions;
 use crate::table_file::{TableFile, read_table};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -46,6 +47,9 @@ pub struct RenderJob {
     /// Timed frames (after one warm-up frame).
     pub frames: u32,
     pub shader: Shader,
+    /// split_frame's horizon band in the lookup (`None`: on, except on a software
+    /// rasteriser; [`LookupShaderOptions::for_adapter`]).
+    pub horizon_band: Option<bool>,
     /// Also render the CPU reference and compare.
     pub reference: bool,
     /// Monte Carlo samples per pixel of the reference's environment term.
@@ -194,7 +198,14 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     for (fabric, table) in fabrics.iter().zip(&tables) {
         let brdf: Box<dyn GpuBrdf> = match (job.shader, table) {
             (Shader::Lookup, Some(file)) => {
-                Box::new(GpuTable::new(&context, &file.table).map_err(|e| e.to_string())?)
+                let options = LookupShaderOptions::for_adapter(
+                    context.adapter.is_software(),
+                    job.horizon_band,
+                );
+                Box::new(
+                    GpuTable::with_options(&context, &file.table, &options)
+                        .map_err(|e| e.to_string())?,
+                )
             }
             (Shader::Direct { samples }, _) => {
                 Box::new(GpuDirect::new(&context, fabric, samples).map_err(|e| e.to_string())?)

@@ -17,6 +17,7 @@
 //! reflection, transmission1, transmission2, 0. (Plus one unused layer when N² is a
 //! multiple of 6: wgpu's GL backend would otherwise make the texture a cube map array.)
 
+use super::wgsl::LookupShaderOptions;
 use super::{
     LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, octahedral, quadrilinear_corners,
 };
@@ -122,7 +123,7 @@ impl TableLookup for Grid4dLookup {
         sum
     }
 
-    fn wgsl_constants(&self) -> String {
+    fn wgsl_constants(&self, _: &LookupShaderOptions) -> String {
         format!(
             "// Octahedral texels per axis of the grid.\nconst CLOTH_GRID_N: u32 = {}u;\n",
             self.n

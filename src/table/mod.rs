@@ -35,6 +35,7 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::any::Any;
 use std::fmt;
 use std::sync::Arc;
+use wgsl::LookupShaderOptions;
 
 /// One table layout: everything that depends on how texels are arranged.
 pub trait LayoutUnit: Sync {
@@ -95,8 +96,8 @@ pub trait TableLookup: Send + Sync + fmt::Debug + Any {
         std::array::from_fn(|k| self.terms_f32(planes, wi[k], wo[k]))
     }
     /// The layout's part of the generated WGSL block: the constants and functions its
-    /// WGSL file expects, as literals.
-    fn wgsl_constants(&self) -> String;
+    /// WGSL file expects, as literals, with the choices of `options`.
+    fn wgsl_constants(&self, options: &LookupShaderOptions) -> String;
     /// The textures the WGSL file binds, built from the planes.
     fn textures(&self, planes: &[Plane]) -> Vec<TextureData>;
     fn as_any(&self) -> &dyn Any;

@@ -16,7 +16,7 @@
 //! (buffer, texture and sampler indices in declaration order).
 
 use super::Table;
-use super::wgsl::lookup_wgsl;
+use super::wgsl::{LookupShaderOptions, lookup_wgsl_with};
 use std::fmt;
 
 /// The compute kernel translated with the lookup.
@@ -67,8 +67,12 @@ impl std::str::FromStr for ShaderLanguage {
 
 /// `table`'s specialised lookup in `language`: the WGSL of `clothbake wgsl` as it is, or its
 /// translation with the pair kernel (see the module doc).
-pub fn lookup_shader(table: &Table, language: ShaderLanguage) -> Result<String, String> {
-    let wgsl = lookup_wgsl(table);
+pub fn lookup_shader(
+    table: &Table,
+    language: ShaderLanguage,
+    options: &LookupShaderOptions,
+) -> Result<String, String> {
+    let wgsl = lookup_wgsl_with(table, options);
     if language == ShaderLanguage::Wgsl {
         return Ok(wgsl);
     }

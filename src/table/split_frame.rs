@@ -60,14 +60,18 @@
 //! in the horizon band, the resonant kernel instead of the sloped tables' fetches. A GPU
 //! skips that branch where no lane of a warp takes it; a software rasteriser (lavapipe)
 //! runs the kernel, masked, in every pixel, which made split_frame's frame 3–8× thread_frame's
-//! there (measured in the README, "Lookup against the direct and resonant shaders").
+//! there (measured in the README, "Lookup against the direct and resonant shaders"). So the
+//! band can be left out of the shader (`LookupShaderOptions::horizon_band`, which
+//! `GpuTable::new` does on a software adapter): the band's pairs then read the sloped tables
+//! like the others (the tables hold the function continued past the horizon), the shader
+//! has no call to the kernel, and every other pair's F is unchanged.
 
 use super::axis::AxisF32;
 use super::fast_math::Lanes;
 use super::point_samples::{PointSamples, PointSums};
 use super::resonant_kernel::{resonant_rules_wgsl, resonant_thread_wgsl};
 use super::thread_frame::{self, AxisPlan, LocatedPairs, ThreadGeometry};
-use super::wgsl::{coverage_wgsl, wgsl_f32, wgsl_vec};
+use super::wgsl::{LookupShaderOptions, coverage_wgsl, wgsl_f32, wgsl_vec};
 use super::{BATCH_LANES, BatchLanes, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
 use crate::model::curve::{Integration, curve_pieces};
 use crate::model::fabric::{ModelOptions, TangentSampling};
@@ -457,8 +461,9 @@ impl Geometry {
         }
     }
 
-    /// `cloth_split_threadJ(wi, wo)`: thread j's sums as [`Self::thread_sums`], in WGSL.
-    fn thread_wgsl(&self, j: usize) -> String {
+    /// `cloth_split_threadJ(wi, wo)`: thread j's sums as [`Self::thread_sums`], in WGSL;
+    /// without `horizon_band`, the sloped table for every pair.
+    fn thread_wgsl(&self, j: usize, horizon_band: bool) -> String {
         let k = j + 1;
         let thread = &self.threads[j];
         let mut f = String::new();
@@ -469,7 +474,9 @@ impl Geometry {
                 "cloth_split_masking",
                 table,
             );
-            f += &resonant_thread_wgsl(&slopes.fabric, j, HORIZON_BAND_NODES);
+            if horizon_band {
+                f += &resonant_thread_wgsl(&slopes.fabric, j, HORIZON_BAND_NODES);
+            }
         }
         let _ = write!(
             f,
@@ -504,18 +511,23 @@ impl Geometry {
             f += "    }\n";
         }
         if let Some(slopes) = &thread.slopes {
-            let _ = write!(
-                f,
-                "    if min(wi.z, wo.z) < {band} {{\n        \
-                 sums += {weight} * cloth_resonant_means_{j}(wi, wo);\n    \
-                 }} else {{\n        \
-                 let c = cloth_split_slopes{k}(wi, wo);\n        \
+            let weight = wgsl_f32(slopes.weight);
+            let table = format!(
+                "let c = cloth_split_slopes{k}(wi, wo);\n        \
                  let p = {weight} * c.z;\n        \
-                 sums += vec3<f32>(c.x * p / max(c.w, 1e-8), c.y * p, p);\n    \
-                 }}\n",
-                band = wgsl_f32(self.horizon_band),
-                weight = wgsl_f32(slopes.weight)
+                 sums += vec3<f32>(c.x * p / max(c.w, 1e-8), c.y * p, p);"
             );
+            if horizon_band {
+                let _ = write!(
+                    f,
+                    "    if min(wi.z, wo.z) < {band} {{\n        \
+                     sums += {weight} * cloth_resonant_means_{j}(wi, wo);\n    \
+                     }} else {{\n        {table}\n    }}\n",
+                    band = wgsl_f32(self.horizon_band),
+                );
+            } else {
+                let _ = writeln!(f, "    {{\n        {table}\n    }}");
+            }
         }
         f += "    return sums;\n}\n";
         f
@@ -567,8 +579,10 @@ impl TableLookup for Geometry {
         terms
     }
 
-    fn wgsl_constants(&self) -> String {
+    fn wgsl_constants(&self, options: &LookupShaderOptions) -> String {
         let mut out = coverage_wgsl(self.coverage, self.gap);
+        // shaders/resonant.wgsl is part of the layout's source and needs the rules' constants
+        // even where no pair calls it (no horizon band).
         out += "// The resonant quadrature of the sloped segments in the horizon band.\n";
         out += &resonant_rules_wgsl(&self.options, HORIZON_BAND_NODES);
         let mut any = false;
@@ -586,7 +600,7 @@ impl TableLookup for Geometry {
                     @group(0) @binding(6) var cloth_split_masking: texture_2d_array<f32>;\n";
         }
         for j in 0..2 {
-            out += &self.thread_wgsl(j);
+            out += &self.thread_wgsl(j, options.horizon_band);
         }
         out
     }

@@ -47,6 +47,9 @@ pub struct ViewOptions {
     pub samples: u32,
     /// The shading at start (keys D and G switch it).
     pub shading: Shading,
+    /// split_frame's horizon band in the lookup (`None`: on, except on a software
+    /// rasteriser; [`crate::table::wgsl::LookupShaderOptions::for_adapter`]).
+    pub horizon_band: Option<bool>,
 }
 
 /// How the cloth is shaded.
@@ -183,6 +186,7 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
             frames: options.frames,
             samples: options.samples,
             shading: options.shading,
+            horizon_band: options.horizon_band,
         },
         table,
     )
@@ -244,6 +248,7 @@ mod tests {
             frames: Some(1),
             samples: DEFAULT_SAMPLES,
             shading: Shading::Lookup,
+            horizon_band: None,
         };
         let e = run(options.clone()).unwrap_err().to_string();
         assert!(
