@@ -90,11 +90,12 @@ pub fn lookup_wgsl_with(table: &Table, options: &LookupShaderOptions) -> String 
     out
 }
 
-/// [`lookup_wgsl`] with the table's bindings in bind group `group` instead of 0, for an
+/// [`lookup_wgsl_with`] with the table's bindings in bind group `group` instead of 0, for an
 /// engine that gives materials a group of their own: Bevy's is `#{MATERIAL_BIND_GROUP}`, a
 /// value its shader preprocessor substitutes. Binding numbers stay as the layout declares them.
-pub fn lookup_wgsl_in_group(table: &Table, group: &str) -> String {
-    lookup_wgsl(table).replace("@group(0) @binding(", &format!("@group({group}) @binding("))
+pub fn lookup_wgsl_in_group(table: &Table, group: &str, options: &LookupShaderOptions) -> String {
+    lookup_wgsl_with(table, options)
+        .replace("@group(0) @binding(", &format!("@group({group}) @binding("))
 }
 
 /// A WGSL f32 literal of `v` rounded to f32, for the constants of generated shaders:
@@ -245,7 +246,8 @@ mod tests {
                     .collect();
                 assert_eq!(declared, provided, "{} {layout}", fabric.name);
                 // Moved to another group, no binding is left in group 0.
-                let moved = lookup_wgsl_in_group(&table, "2");
+                let moved =
+                    lookup_wgsl_in_group(&table, "2", &LookupShaderOptions { horizon_band });
                 let module = naga::front::wgsl::parse_str(&moved).expect("moved lookup parses");
                 let groups: Vec<u32> = module
                     .global_variables

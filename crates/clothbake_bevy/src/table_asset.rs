@@ -27,7 +27,7 @@ use clothbake::sampling::{
     ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap, SAMPLING_WGSL, Sampler,
 };
 use clothbake::table::TextureData;
-use clothbake::table::wgsl::lookup_wgsl_in_group;
+use clothbake::table::wgsl::{LookupShaderOptions, lookup_wgsl_in_group};
 use clothbake::table_file::{MAX_TABLE_FILE_BYTES, TableFileError, read_table_bytes};
 
 /// The fragment shader template; the loader puts the table's lookup at this marker line.
@@ -87,8 +87,22 @@ pub enum ClothTableError {
 /// Loads clothbake tables (`.exr`) as [`ClothTable`]s. Bevy's own EXR image loader (the
 /// `exr` feature, off by default) claims the extension too; load tables as `ClothTable`
 /// (`asset_server.load::<ClothTable>(…)`) and Bevy picks this loader by type.
+///
+/// The lookup in the shader is the one for the adapter ([`LookupShaderOptions::for_adapter`]:
+/// without split_frame's horizon band on a software rasteriser, which would run its resonant
+/// kernel in every pixel); [`crate::ClothPlugin`] registers the loader once the renderer has
+/// chosen its adapter.
 #[derive(Default, TypePath)]
-pub struct ClothTableLoader;
+pub struct ClothTableLoader {
+    lookup: LookupShaderOptions,
+}
+
+impl ClothTableLoader {
+    /// A loader whose shaders have the lookup of `lookup`.
+    pub fn new(lookup: LookupShaderOptions) -> Self {
+        Self { lookup }
+    }
+}
 
 impl AssetLoader for ClothTableLoader {
     type Asset = ClothTable;
@@ -149,7 +163,7 @@ impl AssetLoader for ClothTableLoader {
         let source = TEMPLATE
             .replacen(
                 LOOKUP_MARKER,
-                &lookup_wgsl_in_group(table, "#{MATERIAL_BIND_GROUP}"),
+                &lookup_wgsl_in_group(table, "#{MATERIAL_BIND_GROUP}", &self.lookup),
                 1,
             )
             .replacen(

@@ -6,6 +6,8 @@ use common::{bake_tables, headless_app, scratch};
 
 use bevy::asset::LoadState;
 use bevy::prelude::*;
+use bevy::render::renderer::RenderAdapterInfo;
+use bevy::shader::Shader;
 use clothbake_bevy::ClothTable;
 use std::time::{Duration, Instant};
 
@@ -71,6 +73,64 @@ fn bad_tables_fail_to_load_with_a_reason() {
         assert!(
             start.elapsed() < Duration::from_secs(120),
             "loads still pending: {states:?}"
+        );
+    }
+}
+
+/// The loader's shader has split_frame's horizon band on a GPU and leaves it out on a
+/// software adapter (which would run the band's resonant kernel in every pixel), as
+/// `clothbake render` does: `ClothPlugin` registers the loader for Bevy's adapter.
+#[test]
+fn split_frame_shader_follows_the_adapter() {
+    let dir = scratch("loader-split-frame");
+    let fabric = clothbake::fabric_file::FabricSet::builtin()
+        .get("linen_plain")
+        .expect("built-in fabric")
+        .clone();
+    let table = clothbake::bake::bake(&fabric, clothbake::table::Layout::SPLIT_FRAME, 16, &|| {})
+        .expect("bake");
+    clothbake::table_file::write_table(&dir.join("linen_plain.exr"), &table).expect("write");
+
+    let mut app = headless_app(&dir);
+    app.finish();
+    app.cleanup();
+    let adapter = app.world().resource::<RenderAdapterInfo>();
+    let software = format!("{:?}", adapter.device_type) == "Cpu";
+    println!(
+        "Bevy's adapter: {} ({:?})",
+        adapter.name, adapter.device_type
+    );
+    let handle: Handle<ClothTable> = app
+        .world()
+        .resource::<AssetServer>()
+        .load("linen_plain.exr");
+    let start = Instant::now();
+    loop {
+        app.update();
+        let server = app.world().resource::<AssetServer>();
+        let state = server.load_state(&handle);
+        if let LoadState::Failed(error) = &state {
+            panic!("{error}");
+        }
+        let tables = app.world().resource::<Assets<ClothTable>>();
+        let shaders = app.world().resource::<Assets<Shader>>();
+        if let Some(source) = tables
+            .get(&handle)
+            .and_then(|table| shaders.get(&table.shader))
+            .map(|shader| shader.source.as_str())
+        {
+            let band = source.contains("fn cloth_resonant_means_");
+            println!(
+                "split_frame shader: horizon band {}",
+                if band { "in" } else { "left out" }
+            );
+            assert_eq!(band, !software);
+            assert!(source.contains("fn cloth_brdf("));
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "load still pending: {state:?}"
         );
     }
 }
