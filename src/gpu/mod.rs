@@ -96,12 +96,10 @@ impl AdapterDescription {
                 .join(" "),
         }
     }
-}
 
-impl AdapterDescription {
-    /// Whether the adapter is a software rasteriser (device type `Cpu`: lavapipe, llvmpipe,
-    /// WARP), which runs a shader's branches in every pixel whether or not any pixel takes
-    /// them.
+    /// Whether the adapter is a software rasteriser (device type `Cpu`: lavapipe, WARP),
+    /// which may run a branch's code in every pixel whether or not any pixel takes it
+    /// (lavapipe does: README, "Lookup against the direct and resonant shaders").
     pub fn is_software(&self) -> bool {
         self.device_type == format!("{:?}", wgpu::DeviceType::Cpu)
     }

@@ -526,7 +526,11 @@ impl Geometry {
                     band = wgsl_f32(self.horizon_band),
                 );
             } else {
-                let _ = writeln!(f, "    {{\n        {table}\n    }}");
+                let _ = writeln!(
+                    f,
+                    "    // The horizon band left out: the table for every pair.\n    \
+                     {{\n        {table}\n    }}"
+                );
             }
         }
         f += "    return sums;\n}\n";
