@@ -584,8 +584,7 @@ fn glsl_translation_on_vulkan_agrees_with_wgsl_pair_by_pair() {
                 .collect();
             let from_glsl = evaluate_glsl(&vulkan, &table, &words, &pairs);
             // The WGSL of `lookup_shader`, horizon band included, whatever the adapter.
-            let gpu_table =
-                GpuTable::with_options(&context, &table, &LookupShaderOptions::default()).unwrap();
+            let gpu_table = GpuTable::with_horizon_band(&context, &table, Some(true)).unwrap();
             let from_wgsl = evaluate_pairs(&context, &gpu_table, &pairs).unwrap();
             let largest = from_wgsl.iter().flatten().fold(0.0f32, |a, &b| a.max(b));
             let (mut worst, mut identical, mut lit) = (0.0f64, 0, 0);

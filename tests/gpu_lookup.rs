@@ -57,7 +57,6 @@ use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::fabric_file::FabricSet;
 use clothbake::gpu::{GpuBrdf, GpuTable, evaluate_pairs};
 use clothbake::table::thread_frame::ThreadGeometry;
-use clothbake::table::wgsl::LookupShaderOptions;
 use clothbake::table::{
     Layout, Plane, Table, octahedral, quadrilinear_corners, split_frame, thread_frame,
 };
@@ -282,8 +281,8 @@ fn compare(fabric_name: &str, layout: Layout, resolution: u32, seed: u64) {
     let table = bake(&fabric, layout, resolution, &|| {}).expect("bake");
     let baked = start.elapsed();
     // The lookup that follows `Table::lookup`, horizon band included, whatever the adapter.
-    let gpu_table = GpuTable::with_options(&context, &table, &LookupShaderOptions::default())
-        .expect("upload table");
+    let gpu_table =
+        GpuTable::with_horizon_band(&context, &table, Some(true)).expect("upload table");
     let pairs = pairs(&table, seed);
     let gpu_start = Instant::now();
     let gpu = evaluate_pairs(&context, &gpu_table, &pairs).expect("GPU lookup");
@@ -398,8 +397,8 @@ fn split_frame_without_horizon_band_changes_only_the_band() {
         .expect("split_frame geometry");
     let pairs = pairs(&table, 47);
     let evaluate = |horizon_band| {
-        let options = LookupShaderOptions { horizon_band };
-        let gpu_table = GpuTable::with_options(&context, &table, &options).expect("upload table");
+        let gpu_table = GpuTable::with_horizon_band(&context, &table, Some(horizon_band))
+            .expect("upload table");
         println!("{}", gpu_table.label());
         evaluate_pairs(&context, &gpu_table, &pairs).expect("GPU lookup")
     };

@@ -34,17 +34,18 @@ impl GpuTable {
     /// lookup is the one for the context's adapter ([`LookupShaderOptions::for_adapter`]:
     /// without split_frame's horizon band on a software rasteriser).
     pub fn new(context: &GpuContext, table: &Table) -> Result<Self, GpuError> {
-        let options = LookupShaderOptions::for_adapter(context.adapter.is_software(), None);
-        Self::with_options(context, table, &options)
+        Self::with_horizon_band(context, table, None)
     }
 
-    /// [`GpuTable::new`] with the lookup's choices given.
-    pub fn with_options(
+    /// [`GpuTable::new`], with split_frame's horizon band as `horizon_band` decides (`None`:
+    /// for the context's adapter; `Some(true)`: the lookup that follows `Table::lookup`).
+    pub fn with_horizon_band(
         context: &GpuContext,
         table: &Table,
-        options: &LookupShaderOptions,
+        horizon_band: Option<bool>,
     ) -> Result<Self, GpuError> {
-        context.checked(|| Self::create(context, table, options))?
+        let options = LookupShaderOptions::for_adapter(context.adapter.is_software(), horizon_band);
+        context.checked(|| Self::create(context, table, &options))?
     }
 
     fn create(

@@ -13,7 +13,6 @@ use crate::mesh::Mesh;
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
-use crate::table::wgsl::LookupShaderOptions;
 use crate::table_file::{TableFile, read_table};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -48,7 +47,7 @@ pub struct RenderJob {
     pub frames: u32,
     pub shader: Shader,
     /// split_frame's horizon band in the lookup (`None`: on, except on a software
-    /// rasteriser; [`LookupShaderOptions::for_adapter`]).
+    /// rasteriser; [`GpuTable::with_horizon_band`]).
     pub horizon_band: Option<bool>,
     /// Also render the CPU reference and compare.
     pub reference: bool,
@@ -197,16 +196,10 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     let mut results = Vec::new();
     for (fabric, table) in fabrics.iter().zip(&tables) {
         let brdf: Box<dyn GpuBrdf> = match (job.shader, table) {
-            (Shader::Lookup, Some(file)) => {
-                let options = LookupShaderOptions::for_adapter(
-                    context.adapter.is_software(),
-                    job.horizon_band,
-                );
-                Box::new(
-                    GpuTable::with_options(&context, &file.table, &options)
-                        .map_err(|e| e.to_string())?,
-                )
-            }
+            (Shader::Lookup, Some(file)) => Box::new(
+                GpuTable::with_horizon_band(&context, &file.table, job.horizon_band)
+                    .map_err(|e| e.to_string())?,
+            ),
             (Shader::Direct { samples }, _) => {
                 Box::new(GpuDirect::new(&context, fabric, samples).map_err(|e| e.to_string())?)
             }

@@ -9,7 +9,7 @@ use super::controls::{
 use super::timer::GpuTimer;
 use super::{Shading, ViewError, ViewSummary};
 use crate::environment::Environment;
-use crate::gpu::{GpuContext, GpuDirect, GpuError, GpuResonant, GpuSampler, GpuTable};
+use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
 use crate::mesh::Mesh;
 use crate::model::{Fabric, ResonantNodes};
 use crate::render::job::load_table;
@@ -18,8 +18,6 @@ use crate::render::{
 };
 use crate::sampling::Sampler;
 use crate::scene::Scene;
-use crate::table::Table;
-use crate::table::wgsl::LookupShaderOptions;
 use crate::table_file::TableFile;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -222,7 +220,7 @@ impl App {
             .take()
             .ok_or_else(|| ViewError::Render("the first table was already used".into()))?;
         let first = FabricGpu {
-            lookup: lookup(&gpu, &table.table, self.setup.horizon_band)?,
+            lookup: GpuTable::with_horizon_band(&gpu, &table.table, self.setup.horizon_band)?,
             direct: None,
             resonant: None,
             sampler: None,
@@ -265,8 +263,9 @@ impl App {
         let mut file = None;
         if g.fabrics[index].is_none() {
             let loaded = load_table(&self.setup.tables, &self.setup.fabrics[index])?;
-            let lookup = lookup(&g.gpu, &loaded.table, self.setup.horizon_band)
-                .map_err(|e| e.to_string())?;
+            let lookup =
+                GpuTable::with_horizon_band(&g.gpu, &loaded.table, self.setup.horizon_band)
+                    .map_err(|e| e.to_string())?;
             g.fabrics[index] = Some(FabricGpu {
                 lookup,
                 direct: None,
@@ -729,17 +728,6 @@ impl ApplicationHandler for App {
             _ => {}
         }
     }
-}
-
-/// The lookup of `table` on `gpu`, with the horizon band as `horizon_band` decides
-/// (`None`: for the adapter).
-fn lookup(
-    gpu: &GpuContext,
-    table: &Table,
-    horizon_band: Option<bool>,
-) -> Result<GpuTable, GpuError> {
-    let options = LookupShaderOptions::for_adapter(gpu.adapter.is_software(), horizon_band);
-    GpuTable::with_options(gpu, table, &options)
 }
 
 #[cfg(test)]

@@ -48,7 +48,7 @@ pub struct ViewOptions {
     /// The shading at start (keys D and G switch it).
     pub shading: Shading,
     /// split_frame's horizon band in the lookup (`None`: on, except on a software
-    /// rasteriser; [`crate::table::wgsl::LookupShaderOptions::for_adapter`]).
+    /// rasteriser; [`crate::gpu::GpuTable::with_horizon_band`]).
     pub horizon_band: Option<bool>,
 }
 
