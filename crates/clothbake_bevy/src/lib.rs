@@ -87,3 +87,95 @@ impl Plugin for ClothPlugin {
         )));
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    /// The modules clothbake compiles only with its `runtime` feature: the names declared
+    /// after `#[cfg(feature = "runtime")]` in its `src/lib.rs`.
+    fn runtime_modules(core_lib: &str) -> Vec<String> {
+        let lines: Vec<&str> = core_lib.lines().map(str::trim).collect();
+        lines
+            .windows(2)
+            .filter(|pair| pair[0] == "#[cfg(feature = \"runtime\")]")
+            .filter_map(|pair| pair[1].strip_prefix("pub mod "))
+            .map(|name| name.trim_end_matches(';').to_string())
+            .collect()
+    }
+
+    /// The first path segment after each `clothbake::` in `source`; for a `{…}` group, the
+    /// first segment of each of its top-level items.
+    fn clothbake_paths(source: &str) -> Vec<String> {
+        let first_segment = |item: &str| -> String {
+            item.trim()
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect()
+        };
+        let mut found = Vec::new();
+        for (start, _) in source.match_indices("clothbake::") {
+            let rest = &source[start + "clothbake::".len()..];
+            let Some(group) = rest.strip_prefix('{') else {
+                found.push(first_segment(rest));
+                continue;
+            };
+            // Top-level items: split at commas outside nested braces, stop at the group's end.
+            let (mut depth, mut item_start) = (0, 0);
+            for (i, c) in group.char_indices() {
+                match c {
+                    '{' => depth += 1,
+                    '}' if depth > 0 => depth -= 1,
+                    ',' | '}' if depth == 0 => {
+                        found.push(first_segment(&group[item_start..i]));
+                        item_start = i + 1;
+                        if c == '}' {
+                            break;
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+        found
+    }
+
+    /// The plugin depends on clothbake's core alone (`default-features = false`), but CI
+    /// builds it in one graph with the core's runtime, where cargo's feature unification would
+    /// let a path into a runtime module compile. This keeps the plugin off them.
+    #[test]
+    fn the_plugin_uses_only_the_core() {
+        let crate_dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let core_lib = std::fs::read_to_string(crate_dir.join("../../src/lib.rs")).unwrap();
+        let runtime = runtime_modules(&core_lib);
+        assert!(
+            runtime.len() >= 4 && runtime.iter().any(|m| m == "gpu"),
+            "runtime modules not found in clothbake's lib.rs: {runtime:?}"
+        );
+        let mut checked = 0;
+        for entry in std::fs::read_dir(crate_dir.join("src")).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let source = std::fs::read_to_string(&path).unwrap();
+            for segment in clothbake_paths(&source) {
+                assert!(
+                    !runtime.contains(&segment),
+                    "{} uses clothbake::{segment}, which needs clothbake's runtime feature",
+                    path.display()
+                );
+            }
+            checked += 1;
+        }
+        assert!(checked >= 6, "only {checked} source files");
+        assert_eq!(
+            // Spelt with format! so that this file's own scan does not find it.
+            clothbake_paths(&format!(
+                "use {0}::{{table::{{a, b}}, gpu::G}};\n{0}::render::x",
+                "clothbake"
+            )),
+            ["table", "gpu", "render"]
+        );
+    }
+}

@@ -32,7 +32,7 @@ use clothbake_bevy::{
 mod common;
 use common::{bake_tables, headless_app, scratch, workspace};
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -148,11 +148,17 @@ fn scene_text(lighting: Lighting) -> String {
 }
 
 /// Linear radiance (RGBA f32, row-major) of `clothbake render` for `case`.
-fn clothbake_render(dir: &Path, tables: &Path, index: usize, case: &Case) -> Vec<[f32; 4]> {
+fn clothbake_render(
+    clothbake: &Path,
+    dir: &Path,
+    tables: &Path,
+    index: usize,
+    case: &Case,
+) -> Vec<[f32; 4]> {
     let scene = dir.join(format!("scene-{index}.toml"));
     std::fs::write(&scene, scene_text(case.lighting)).expect("scene file");
     let out = dir.join(format!("clothbake-{index}-{}.png", case.fabric));
-    let mut command = Command::new(workspace().join("target/release/clothbake"));
+    let mut command = Command::new(clothbake);
     command
         .args(["render", "--scene"])
         .arg(&scene)
@@ -186,9 +192,19 @@ fn clothbake_render(dir: &Path, tables: &Path, index: usize, case: &Case) -> Vec
     read_exr(&out.with_extension("exr"))
 }
 
-/// Builds the clothbake binary, with its own wgpu runtime: a separate build of the
-/// workspace's main package (this crate's build has Bevy's wgpu only).
-fn build_clothbake() {
+/// The `clothbake` binary, with its own wgpu runtime: `CLOTHBAKE_BIN` where the caller built
+/// it (scripts/test.sh, in the same build as this test), else a build of the workspace's main
+/// package here (this crate alone builds the core without the runtime).
+fn clothbake_binary() -> PathBuf {
+    if let Some(path) = std::env::var_os("CLOTHBAKE_BIN") {
+        let path = PathBuf::from(path);
+        assert!(
+            path.exists(),
+            "CLOTHBAKE_BIN={} does not exist",
+            path.display()
+        );
+        return path;
+    }
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let status = Command::new(cargo)
         .current_dir(workspace())
@@ -204,6 +220,7 @@ fn build_clothbake() {
         .status()
         .expect("run cargo");
     assert!(status.success(), "cargo build -p clothbake failed");
+    workspace().join("target/release/clothbake")
 }
 
 fn read_exr(path: &Path) -> Vec<[f32; 4]> {
@@ -387,13 +404,13 @@ fn bevy_matches_clothbake_render_in_linear_radiance() {
     std::fs::create_dir_all(&tables).unwrap();
     let fabrics: Vec<&str> = CASES.iter().map(|c| c.fabric).collect();
     bake_tables(&tables, &fabrics);
-    build_clothbake();
+    let clothbake = clothbake_binary();
     let scene = Scene::parse(SCENE).expect("scene");
     let mut failures = Vec::new();
     for (index, case) in CASES.iter().enumerate() {
         let (bevy_image, adapter) = bevy_render(&scene, &tables, case);
         println!("Bevy rendered on: {adapter}");
-        let reference = clothbake_render(&dir, &tables, index, case);
+        let reference = clothbake_render(&clothbake, &dir, &tables, index, case);
         let (mut difference, mut norm, mut both, mut either) = (0.0f64, 0.0f64, 0usize, 0usize);
         for (a, b) in bevy_image.iter().zip(&reference) {
             let (covered_a, covered_b) = (a[3] > 0.0, b[3] > 0.0);
