@@ -9,16 +9,17 @@
 //!
 //! Keys: 1–6 or Tab choose the fabric; drag with the left mouse button or use the arrow keys
 //! to orbit, the mouse wheel or +/− to zoom; Space stops or starts the moving light; E turns
-//! the environment light off and on; Escape quits. `--frames N` quits after N frames; `--screenshot FILE.png` saves the last of them;
-//! `--tables DIR` reads the tables from DIR instead of the workspace's `tables/`; `--fabric
-//! NAME` starts with that fabric.
+//! the environment light off and on; Escape quits. `--frames N` quits after N frames; with
+//! `--screenshot FILE.png` it saves frame N and quits once the file is written; `--tables DIR`
+//! reads the tables from DIR instead of the workspace's `tables/`; `--fabric NAME` starts with
+//! that fabric.
 
 use bevy::asset::LoadState;
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
 use bevy::prelude::*;
 use bevy::render::extract_plugin::MainWorld;
 use bevy::render::render_resource::PipelineCache;
-use bevy::render::view::screenshot::{Screenshot, save_to_disk};
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured, save_to_disk};
 use bevy::render::{ExtractSchedule, RenderApp};
 use clothbake::scene::Scene;
 use clothbake_bevy::{
@@ -48,6 +49,11 @@ struct Cloth;
 /// shader compiles after the table loads, and the cloth is drawn once it has.
 #[derive(Resource, Default)]
 struct PipelinesWaiting(usize);
+
+/// Set when `--screenshot`'s capture arrives; `save_to_disk`'s observer writes the file on
+/// the same capture, so both have run before the next frame's `count_frames` reads this.
+#[derive(Resource, Default)]
+struct ScreenshotSaved(bool);
 
 fn count_waiting_pipelines(cache: Res<PipelineCache>, mut main_world: ResMut<MainWorld>) {
     main_world.resource_mut::<PipelinesWaiting>().0 = cache.waiting_pipelines().count();
@@ -98,7 +104,8 @@ fn main() -> AppExit {
         ..default()
     }))
     .add_plugins(ClothPlugin)
-    .init_resource::<PipelinesWaiting>();
+    .init_resource::<PipelinesWaiting>()
+    .init_resource::<ScreenshotSaved>();
     app.sub_app_mut(RenderApp)
         .add_systems(ExtractSchedule, count_waiting_pipelines);
     app.insert_resource(options)
@@ -354,9 +361,12 @@ fn move_light(
     }
 }
 
+/// Frames `--screenshot` waits for its capture before giving up (it took 4 on lavapipe).
+const SCREENSHOT_FRAMES: u32 = 30;
+
 /// Quits on Escape, on a table that fails to load, or `--frames` frames after every table
-/// has loaded and no pipeline has been compiling for three frames, saving the last one with
-/// `--screenshot`.
+/// has loaded and no pipeline has been compiling for three frames; with `--screenshot`, asks
+/// for a capture of frame N and quits once it has been written.
 #[allow(clippy::too_many_arguments)] // a system: each argument is a resource it reads
 fn count_frames(
     mut commands: Commands,
@@ -365,6 +375,7 @@ fn count_frames(
     fabrics: Res<Fabrics>,
     assets: Res<AssetServer>,
     waiting: Res<PipelinesWaiting>,
+    saved: Res<ScreenshotSaved>,
     time: Res<Time>,
     mut settled: Local<u32>,
     mut frame: Local<u32>,
@@ -409,12 +420,20 @@ fn count_frames(
         (Some(path), f) if f == frames => {
             commands
                 .spawn(Screenshot::primary_window())
-                .observe(save_to_disk(path.clone()));
+                .observe(save_to_disk(path.clone()))
+                .observe(
+                    |_: On<ScreenshotCaptured>, mut saved: ResMut<ScreenshotSaved>| saved.0 = true,
+                );
         }
-        // A screenshot is written a few frames after it is asked for.
-        (Some(_), f) if f >= frames + 10 => {
+        // The capture arrives a few frames after it is asked for (4 on lavapipe, whose first
+        // capture also compiles the copy's pipeline).
+        (Some(_), f) if saved.0 => {
             println!("drape: drew {f} frames");
             exit.write(AppExit::Success);
+        }
+        (Some(path), f) if f >= frames + SCREENSHOT_FRAMES => {
+            eprintln!("drape: no screenshot captured for {path} after {SCREENSHOT_FRAMES} frames");
+            exit.write(AppExit::error());
         }
         (None, f) if f >= frames => {
             println!("drape: drew {f} frames");

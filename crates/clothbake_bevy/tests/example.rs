@@ -34,7 +34,7 @@ fn drape_example_draws_frames_under_xvfb_and_exits() {
     let mut child = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1280x1024x24"])
         .arg(&example)
-        .args(["--frames", "5", "--tables"])
+        .args(["--frames", "2", "--tables"])
         .arg(&dir)
         .arg("--screenshot")
         .arg(&screenshot)
