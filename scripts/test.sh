@@ -5,10 +5,11 @@
 # Release mode: the direct evaluation is too slow unoptimised.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# The core and the Bevy plugin in one build graph, so that each package's long serial
-# compiles (clothbake, bevy_render, bevy_pbr) overlap on CI's two cores instead of leaving
-# one idle. Features unify across the workspace (the plugin links the core with its
-# runtime here); the core without the runtime is built and tested below. The plugin's
+# The core and the Bevy plugin in one build graph: the dependencies they share build once,
+# and cargo schedules both packages' crates together on CI's two cores (1.94 busy on
+# average in a `--timings` run of this build). Features unify across the workspace (the
+# plugin links the core with its runtime here; tests/feature_split.rs keeps the plugin off
+# the runtime's modules); the CLI without the runtime is built and tested below. The plugin's
 # headless comparison runs the `clothbake` binary of this same build (CLOTHBAKE_BIN) rather
 # than building it again with the core's own feature set.
 CLOTHBAKE_BIN="$PWD/target/release/clothbake" cargo test --release --locked --workspace
