@@ -39,7 +39,9 @@ use std::path::{Path, PathBuf};
 /// 2: thread_frame masking planes by the baking rule; filled texels symmetric across the
 /// u = 0 fold.
 /// 3: the `texels` checksum.
-pub const BAKER_REVISION: u32 = 3;
+/// 4: thread_frame and split_frame texels where ⟨P⟩ ≤ 1e-5 hold 0 (were: ⟨P⟩ < 1e-3 filled
+/// from their neighbours).
+pub const BAKER_REVISION: u32 = 4;
 
 /// The first revision that records the `texels` checksum: from it on the checksum is required.
 const TEXEL_CHECKSUM_REVISION: u32 = 3;

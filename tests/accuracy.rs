@@ -3,10 +3,10 @@
 //!
 //! The bounds are set from measurement. A relative RMS over a few thousand pairs is
 //! dominated by a handful of pairs within a degree of the horizon, so it moves between
-//! seeds (satin, highlight pairs: 3.1% on `clothbake check`'s 4,000, 6.4% on this test's
-//! 2,000, two or three pairs 0.1–0.3° above the horizon carrying most of it). Each bound is
-//! the larger of the two measurements plus 20%. Five fabrics meet the baker's 2% goal on
-//! both sets; satin's highlight pairs do not (README, "Tables").
+//! seeds (satin, highlight pairs: 2.07% on this test's 2,000, 3.50% on `clothbake check`'s
+//! 20,000). Each bound is the larger of the two measurements plus 20%. Four fabrics meet the
+//! baker's 2% goal on both sets of 20,000; the highlight pairs of satin (3.50%) and satin
+//! back (2.08%) do not (README, "Tables").
 
 mod common;
 
@@ -18,17 +18,21 @@ use common::*;
 use glam::DVec3;
 use rayon::prelude::*;
 
-/// (fabric, uniform bound, highlight bound), relative RMS.
+/// (fabric, uniform bound, highlight bound), relative RMS. Measured at baker revision 4
+/// (this test's 2,000 pairs, f64 lookup / `clothbake check`'s 20,000, f32 lookup; uniform,
+/// then highlight): linen 0.45 / 0.46%, 0.42 / 0.43%; crepe 0.99 / 1.31%, 1.26 / 1.00%;
+/// satin 1.45 / 1.67%, 2.07 / 3.50%; satin back 1.25 / 1.38%, 1.43 / 2.08%; silk_shot 1.13 /
+/// 1.25%, 1.06 / 1.51%; velvet 0.77 / 0.96%, 0.95 / 1.01%.
 const BOUNDS: [(&str, f64, f64); 6] = [
-    ("linen_plain", 0.0066, 0.0063),
-    ("silk_crepe_de_chine", 0.0193, 0.0157),
-    ("polyester_satin_charmeuse", 0.0232, 0.077),
-    ("polyester_satin_charmeuse_back", 0.0239, 0.0208),
-    ("silk_shot", 0.015, 0.0175),
-    ("velvet", 0.0229, 0.0201),
+    ("linen_plain", 0.0055, 0.0052),
+    ("silk_crepe_de_chine", 0.0157, 0.0151),
+    ("polyester_satin_charmeuse", 0.0200, 0.042),
+    ("polyester_satin_charmeuse_back", 0.0166, 0.0250),
+    ("silk_shot", 0.0150, 0.0181),
+    ("velvet", 0.0115, 0.0121),
 ];
-/// Both directions at least 15° above the horizon: measured 0.38–1.2%.
-const ABOVE_15_BOUND: f64 = 0.0146;
+/// Both directions at least 15° above the horizon: measured 0.40–1.11% (this test's pairs).
+const ABOVE_15_BOUND: f64 = 0.0133;
 
 #[test]
 fn default_tables_meet_their_measured_error() {
@@ -91,38 +95,39 @@ fn default_tables_meet_their_measured_error() {
 /// highlight with both directions ≥ 1° above the horizon) bounds on the relative RMS of the
 /// f32 lookup on 20,000 pairs per set (the measurement size; fewer pairs move satin's
 /// figures by ±0.5%), each the measurement plus 20%. Measured (`clothbake check`, same
-/// seeds), with the sloped segments of pairs within 1° of the horizon by the resonant
-/// quadrature: at 32 (2.2–4.3 MiB) linen 0.88 / 0.86 / 0.89%, crepe 0.36 / 0.33 / 0.31%,
-/// satin 0.60 / 0.69 / 0.76%, satin back 0.42 / 0.36 / 0.42%, silk_shot 0.60 / 0.54 /
-/// 0.62%, velvet 1.86 / 1.66 / 1.76%; at 20 (0.54–1.08 MiB) linen 1.49 / 1.32 / 1.36%,
-/// crepe 0.84 / 0.68 / 0.74%, satin 1.47 / 1.47 / 1.65%, satin back 0.86 / 0.81 / 0.95%,
-/// silk_shot 1.47 / 1.29 / 1.51%, velvet 2.98 / 3.21 / 3.41%. Before the horizon band, at
-/// 32: satin back's highlight figure was 2.19% (one pair at elevation 0.00°), satin's
-/// 1.20%, silk_shot's 1.35%.
+/// seeds), baker revision 4 (texels where ⟨P⟩ ≤ 1e-5 hold 0), with the sloped segments of
+/// pairs within 1° of the horizon by the resonant quadrature: at 32 (2.2–4.3 MiB) linen
+/// 0.88 / 0.84 / 0.87%, crepe 0.35 / 0.33 / 0.30%, satin 0.56 / 0.47 / 0.50%, satin back
+/// 0.42 / 0.33 / 0.39%, silk_shot 0.59 / 0.51 / 0.58%, velvet 1.28 / 1.08 / 1.15%; at 20
+/// (0.55–1.08 MiB) linen 1.49 / 1.29 / 1.32%, crepe 0.83 / 0.66 / 0.71%, satin 1.39 / 1.16 /
+/// 1.31%, satin back 0.86 / 0.76 / 0.89%, silk_shot 1.46 / 1.26 / 1.48%, velvet 1.99 / 1.82
+/// / 1.93%. Before revision 4 (texels below ⟨P⟩ = 1e-3 filled from their neighbours) velvet
+/// read 1.86 / 1.66 / 1.76% at 32 and 2.98 / 3.21 / 3.41% at 20, satin 0.60 / 0.69 / 0.76%
+/// and 1.47 / 1.47 / 1.65%.
 const SPLIT_FRAME_BOUNDS: [(&str, [[f64; 3]; 2]); 6] = [
     (
         "linen_plain",
-        [[0.0106, 0.0103, 0.0107], [0.0179, 0.0158, 0.0163]],
+        [[0.0106, 0.0101, 0.0104], [0.0179, 0.0155, 0.0158]],
     ),
     (
         "silk_crepe_de_chine",
-        [[0.0043, 0.0040, 0.0037], [0.0101, 0.0082, 0.0089]],
+        [[0.0042, 0.0040, 0.0036], [0.0100, 0.0079, 0.0085]],
     ),
     (
         "polyester_satin_charmeuse",
-        [[0.0072, 0.0083, 0.0091], [0.0176, 0.0176, 0.0198]],
+        [[0.0067, 0.0056, 0.0060], [0.0167, 0.0139, 0.0157]],
     ),
     (
         "polyester_satin_charmeuse_back",
-        [[0.0050, 0.0043, 0.0050], [0.0103, 0.0097, 0.0114]],
+        [[0.0050, 0.0040, 0.0047], [0.0103, 0.0091, 0.0107]],
     ),
     (
         "silk_shot",
-        [[0.0072, 0.0065, 0.0074], [0.0176, 0.0155, 0.0181]],
+        [[0.0071, 0.0061, 0.0070], [0.0175, 0.0151, 0.0178]],
     ),
     (
         "velvet",
-        [[0.0223, 0.0199, 0.0211], [0.0358, 0.0385, 0.0409]],
+        [[0.0154, 0.0130, 0.0138], [0.0239, 0.0218, 0.0232]],
     ),
 ];
 /// The resolutions of [`SPLIT_FRAME_BOUNDS`] and the largest table each may be: the issue's

@@ -652,10 +652,6 @@ fn bake_slopes(
         }
         let above = ratios(lift(wi, wi.z.max(1e-6)), lift(wo, wo.z.max(1e-6)));
         let mirror = ratios(lift(wi, wi.z.abs()), lift(wo, wo.z.abs()));
-        // NaN (a ratio below the floor) propagates and is filled from the neighbours.
-        [0, 1].map(|c| {
-            let v = 2.0 * above[c] - mirror[c];
-            if v.is_nan() { v } else { v.max(0.0) }
-        })
+        [0, 1].map(|c| (2.0 * above[c] - mirror[c]).max(0.0))
     })
 }
