@@ -16,6 +16,6 @@ CLOTHBAKE_BIN="$PWD/target/release/clothbake" cargo test --release --locked --wo
 # Without the runtime: the CLI without `render`/`view`/`report` (its own tests, `cli` and
 # `bake_cli`, against that binary). Nothing else needs running again: the feature only
 # changes lib.rs's list of modules and main.rs's commands (tests/feature_split.rs keeps it
-# so), and the core modules build the same either way. The workspace's feature unification differs here, so some
-# dependencies build a second time.
+# so), and the core modules build the same either way. The workspace's feature unification
+# differs here, so some dependencies build a second time.
 cargo test --release --locked --no-default-features --bins --test cli --test bake_cli

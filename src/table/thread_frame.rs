@@ -828,13 +828,13 @@ pub fn bake_thread_plane(
     let values: [Vec<f64>; 4] =
         std::array::from_fn(|a| (0..n[a]).map(|i| geometry.axes[a].texel_value(i)).collect());
     let rows = n[1] * n[2] * n[3];
-    let data: Vec<[f64; 2]> = (0..rows)
+    (0..rows)
         .into_par_iter()
         .flat_map_iter(|row| {
             let (i1, i3, i2) = (row % n[1], (row / n[1]) % n[3], row / (n[1] * n[3]));
             let (values, ratios) = (&values, &ratios);
-            let row_values: Vec<[f64; 2]> = (0..n[0])
-                .map(|i0| {
+            let row_values: Vec<f64> = (0..n[0])
+                .flat_map(|i0| {
                     let theta_d = values[1][i1];
                     let (wi, wo) =
                         geometry.directions([values[0][i0], theta_d, values[2][i2], values[3][i3]]);
@@ -844,8 +844,7 @@ pub fn bake_thread_plane(
             on_row();
             row_values
         })
-        .collect();
-    data.into_iter().flatten().collect()
+        .collect()
 }
 
 /// The stored channels of "Channels and lookup" for a pair at θd' from the thread's curve
