@@ -41,7 +41,9 @@ use std::path::{Path, PathBuf};
 /// 3: the `texels` checksum.
 /// 4: thread_frame and split_frame texels where ⟨P⟩ ≤ 1e-5 hold 0 (were: ⟨P⟩ < 1e-3 filled
 /// from their neighbours).
-pub const BAKER_REVISION: u32 = 4;
+/// 5: thread_frame and split_frame 4D texels hold the least-squares quadrilinear fit
+/// instead of point samples ([`crate::table::prefilter`]).
+pub const BAKER_REVISION: u32 = 5;
 
 /// The first revision that records the `texels` checksum: from it on the checksum is required.
 const TEXEL_CHECKSUM_REVISION: u32 = 3;

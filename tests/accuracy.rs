@@ -3,10 +3,9 @@
 //!
 //! The bounds are set from measurement. A relative RMS over a few thousand pairs is
 //! dominated by a handful of pairs within a degree of the horizon, so it moves between
-//! seeds (satin, highlight pairs: 2.07% on this test's 2,000, 3.50% on `clothbake check`'s
-//! 20,000). Each bound is the larger of the two measurements plus 20%. Four fabrics meet the
-//! baker's 2% goal on both sets of 20,000; the highlight pairs of satin (3.50%) and satin
-//! back (2.08%) do not (README, "Tables").
+//! seeds (satin, highlight pairs: 2.19% on this test's 2,000, 3.07% on `clothbake check`'s
+//! 20,000). Each bound is the larger of the two measurements plus 20%. Five fabrics meet
+//! 2% on both sets of 20,000; satin's highlight pairs (3.07%) do not (README, "Tables").
 
 mod common;
 
@@ -18,21 +17,21 @@ use common::*;
 use glam::DVec3;
 use rayon::prelude::*;
 
-/// (fabric, uniform bound, highlight bound), relative RMS. Measured at baker revision 4
-/// (this test's 2,000 pairs, f64 lookup / `clothbake check`'s 20,000, f32 lookup; uniform,
-/// then highlight): linen 0.45 / 0.46%, 0.42 / 0.43%; crepe 0.99 / 1.31%, 1.26 / 1.00%;
-/// satin 1.45 / 1.67%, 2.07 / 3.50%; satin back 1.25 / 1.38%, 1.43 / 2.08%; silk_shot 1.13 /
-/// 1.25%, 1.06 / 1.51%; velvet 0.77 / 0.96%, 0.95 / 1.01%.
+/// (fabric, uniform bound, highlight bound), relative RMS. Measured at baker revision 5
+/// (uniform: this test's 2,000 pairs, f64 lookup / `clothbake check`'s 20,000, f32 lookup;
+/// then highlight the same): linen 0.29 / 0.30%, 0.29 / 0.27%; crepe 0.77 / 0.97%, 1.05 /
+/// 0.85%; satin 0.93 / 1.47%, 2.19 / 3.07%; satin back 0.83 / 0.88%, 0.82 / 1.61%;
+/// silk_shot 0.96 / 0.94%, 0.74 / 1.39%; velvet 0.43 / 0.62%, 0.60 / 0.65%.
 const BOUNDS: [(&str, f64, f64); 6] = [
-    ("linen_plain", 0.0055, 0.0052),
-    ("silk_crepe_de_chine", 0.0157, 0.0151),
-    ("polyester_satin_charmeuse", 0.0200, 0.042),
-    ("polyester_satin_charmeuse_back", 0.0166, 0.0250),
-    ("silk_shot", 0.0150, 0.0181),
-    ("velvet", 0.0115, 0.0121),
+    ("linen_plain", 0.0036, 0.0035),
+    ("silk_crepe_de_chine", 0.0116, 0.0126),
+    ("polyester_satin_charmeuse", 0.0176, 0.0369),
+    ("polyester_satin_charmeuse_back", 0.0105, 0.0193),
+    ("silk_shot", 0.0115, 0.0166),
+    ("velvet", 0.0074, 0.0078),
 ];
-/// Both directions at least 15° above the horizon: measured 0.40–1.11% (this test's pairs).
-const ABOVE_15_BOUND: f64 = 0.0133;
+/// Both directions at least 15° above the horizon: measured 0.21–0.96% (this test's pairs).
+const ABOVE_15_BOUND: f64 = 0.0115;
 
 #[test]
 fn default_tables_meet_their_measured_error() {
@@ -91,48 +90,48 @@ fn default_tables_meet_their_measured_error() {
     }
 }
 
-/// split_frame at its default resolution (32) and at 20: per fabric, (uniform, highlight,
+/// split_frame at its default resolution (31) and at 19: per fabric, (uniform, highlight,
 /// highlight with both directions ≥ 1° above the horizon) bounds on the relative RMS of the
 /// f32 lookup on 20,000 pairs per set (the issue's measurement size; fewer pairs move satin's
 /// figures by ±0.5%), each the measurement plus 20%. Measured (`clothbake check`, same
-/// seeds), baker revision 4 (texels where ⟨P⟩ ≤ 1e-5 hold 0), with the sloped segments of
-/// pairs within 1° of the horizon by the resonant quadrature: at 32 (2.2–4.3 MiB) linen
-/// 0.88 / 0.84 / 0.87%, crepe 0.35 / 0.33 / 0.30%, satin 0.56 / 0.47 / 0.50%, satin back
-/// 0.42 / 0.33 / 0.39%, silk_shot 0.59 / 0.51 / 0.58%, velvet 1.28 / 1.08 / 1.15%; at 20
-/// (0.55–1.08 MiB) linen 1.49 / 1.29 / 1.32%, crepe 0.83 / 0.66 / 0.71%, satin 1.39 / 1.16 /
-/// 1.31%, satin back 0.86 / 0.76 / 0.89%, silk_shot 1.46 / 1.26 / 1.48%, velvet 1.99 / 1.82
-/// / 1.93%. Before revision 4 (texels below ⟨P⟩ = 1e-3 filled from their neighbours) velvet
-/// read 1.86 / 1.66 / 1.76% at 32 and 2.98 / 3.21 / 3.41% at 20, satin 0.60 / 0.69 / 0.76%
-/// and 1.47 / 1.47 / 1.65%.
+/// seeds), baker revision 5 (texels the least-squares fit, v = 0 a texel line), with the
+/// sloped segments of pairs within 1° of the horizon by the resonant quadrature: at 31
+/// (1.9–3.9 MiB) linen 0.57 / 0.57 / 0.58%, crepe 0.19 / 0.25 / 0.17%, satin 0.34 / 0.33 /
+/// 0.34%, satin back 0.24 / 0.21 / 0.24%, silk_shot 0.33 / 0.30 / 0.32%, velvet 0.81 / 0.75 /
+/// 0.79%; at 19 (0.46–0.91 MiB) linen 1.35 / 1.18 / 1.22%, crepe 0.53 / 0.50 / 0.52%, satin
+/// 0.97 / 0.85 / 0.95%, satin back 0.64 / 0.59 / 0.69%, silk_shot 0.93 / 0.88 / 1.02%, velvet
+/// 1.89 / 1.92 / 2.03%. At revision 4 (point samples) split_frame 32 read velvet 1.28 / 1.08
+/// / 1.15% at 4.3 MiB, and 20 velvet 1.99 / 1.82 / 1.93% at 1.08 MiB.
 const SPLIT_FRAME_BOUNDS: [(&str, [[f64; 3]; 2]); 6] = [
     (
         "linen_plain",
-        [[0.0106, 0.0101, 0.0104], [0.0179, 0.0155, 0.0158]],
+        [[0.0068, 0.0068, 0.0070], [0.0162, 0.0142, 0.0146]],
     ),
     (
         "silk_crepe_de_chine",
-        [[0.0042, 0.0040, 0.0036], [0.0100, 0.0079, 0.0085]],
+        [[0.0023, 0.0030, 0.0021], [0.0063, 0.0060, 0.0062]],
     ),
     (
         "polyester_satin_charmeuse",
-        [[0.0067, 0.0056, 0.0060], [0.0167, 0.0139, 0.0157]],
+        [[0.0040, 0.0039, 0.0040], [0.0117, 0.0102, 0.0114]],
     ),
     (
         "polyester_satin_charmeuse_back",
-        [[0.0050, 0.0040, 0.0047], [0.0103, 0.0091, 0.0107]],
+        [[0.0029, 0.0025, 0.0029], [0.0077, 0.0071, 0.0083]],
     ),
     (
         "silk_shot",
-        [[0.0071, 0.0061, 0.0070], [0.0175, 0.0151, 0.0178]],
+        [[0.0039, 0.0036, 0.0039], [0.0111, 0.0105, 0.0123]],
     ),
     (
         "velvet",
-        [[0.0154, 0.0130, 0.0138], [0.0239, 0.0218, 0.0232]],
+        [[0.0098, 0.0090, 0.0095], [0.0227, 0.0230, 0.0244]],
     ),
 ];
-/// The resolutions of [`SPLIT_FRAME_BOUNDS`] and the largest table each may be: the issue's
-/// 4 MiB and 1 MiB, but velvet's tables are 4.3 and 1.08 MiB.
-const SPLIT_FRAME_RESOLUTIONS: [(u32, usize); 2] = [(32, 4_500 << 10), (20, 1_120 << 10)];
+/// The resolutions of [`SPLIT_FRAME_BOUNDS`], the largest table each may be and the error
+/// the issue "Tables worth baking" asks of uniform and highlight pairs at that size: ≤ 1%
+/// within 4 MiB, ≤ 2% within 1 MiB.
+const SPLIT_FRAME_TARGETS: [(u32, usize, f64); 2] = [(31, 4 << 20, 0.01), (19, 1 << 20, 0.02)];
 
 #[test]
 fn split_frame_tables_meet_their_measured_error() {
@@ -140,8 +139,8 @@ fn split_frame_tables_meet_their_measured_error() {
     for (name, bounds) in SPLIT_FRAME_BOUNDS {
         let fabric = fabric(name);
         let reference = clothbake::accuracy::Reference::new(&fabric, 20_000);
-        for ((resolution, max_bytes), [uniform, highlight, above_1]) in
-            SPLIT_FRAME_RESOLUTIONS.into_iter().zip(bounds)
+        for ((resolution, max_bytes, target), [uniform, highlight, above_1]) in
+            SPLIT_FRAME_TARGETS.into_iter().zip(bounds)
         {
             let table = bake(&fabric, layout, resolution, &|| {}).unwrap();
             let error = reference.measure(|wi, wo| clothbake::accuracy::lookup_f32(&table, wi, wo));
@@ -159,11 +158,11 @@ fn split_frame_tables_meet_their_measured_error() {
                 table.byte_size()
             );
             assert!(
-                error.uniform.relative_rms <= uniform,
+                error.uniform.relative_rms <= uniform.min(target),
                 "{name} {resolution}: {error:?}"
             );
             assert!(
-                error.highlight.relative_rms <= highlight,
+                error.highlight.relative_rms <= highlight.min(target),
                 "{name} {resolution}: {error:?}"
             );
             assert!(

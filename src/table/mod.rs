@@ -22,6 +22,7 @@ pub mod fast_math;
 pub mod grid4d;
 pub mod octahedral;
 pub mod point_samples;
+pub mod prefilter;
 pub mod resonant_kernel;
 pub mod shader_language;
 pub mod split_frame;

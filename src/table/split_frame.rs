@@ -23,7 +23,9 @@
 //! `reflection` = R_c·cos²θd'/⟨P⟩_c and `transmission` = T_c/⟨P⟩_c over (βH, θd', u, v);
 //! `maskingJ`: ⟨P⟩_c over (βi, βo), 129²), with the axes of [`PLAN`]: 1.2 βH texels per σs
 //! on the band of the sloped segments' ridges, θd' R texels (`SinEnds`, k = 1.2), u 0.56R,
-//! v 0.84R. Thread planes come first, then masking planes, both in thread order.
+//! v the odd count nearest 0.84R; texels hold the least-squares fit of
+//! [`super::prefilter`]. Thread planes come first, then masking planes, both in thread
+//! order.
 //!
 //! Texels whose directions fall below the horizon hold the function continued past it with
 //! its one-sided slope: with w⁺ = normalize(w.x, w.y, max(w.z, 10⁻⁶)) and
@@ -115,24 +117,25 @@ impl LayoutUnit for SplitFrame {
         "split_frame"
     }
 
+    /// The largest resolution at which every built-in fabric's table fits 4 MiB (velvet 3.9).
     fn default_resolution(&self) -> u32 {
-        32
+        31
     }
 
-    /// At 64: 64 × 36 × 54 texels per βH slice, at most ~130 slices: 64 MiB.
+    /// At 64: 64 × 36 × 53 texels per βH slice, at most ~130 slices: 64 MiB.
     fn max_resolution(&self) -> u32 {
         64
     }
 
     fn resolution_ladder(&self) -> &'static [u32] {
-        &[16, 20, 24, 32, 40, 48]
+        &[16, 19, 24, 31, 40, 48]
     }
 
     fn report_resolutions(&self, quick: bool) -> &'static [u32] {
         if quick {
-            &[16, 32]
+            &[16, 31]
         } else {
-            &[16, 20, 24, 32, 40]
+            &[16, 19, 24, 31, 40]
         }
     }
 
