@@ -284,7 +284,7 @@ fn lookup_render_matches_the_cpu_lookup_and_approaches_the_direct_reference() {
             "{name}: GPU lookup differs from the CPU lookup by {:.2e}",
             device.relative_l2
         );
-        // Against the direct evaluation: the R = 16 table's own error (the report: 2.8–7.5%
+        // Against the direct evaluation: the R = 16 table's own error (the report: 2.7–6.2%
         // RMS over uniform pairs at R = 16, less on the directions a lit drape sees),
         // measured here 1.85% (linen_plain) to 3.82% (polyester_satin_charmeuse) at baker
         // revision 5;
