@@ -16,7 +16,8 @@
 //! tensor product of the 1D fits, so the correction is applied along each axis in turn.
 //! Edge nodes keep their samples (their second difference is one-sided). Values that the
 //! correction would make negative are set to 0: the stored quantities are non-negative, and
-//! the correction only undershoots where a kink meets a texel that holds 0.
+//! the correction can only take a node below 0 next to a steep rise from 0 (a texel where
+//! the facing window closes, beside one where it is open).
 //!
 //! Measured with `clothbake check` (20,000 uniform / 20,000 highlight pairs, relative RMS),
 //! point samples against the fit, at split_frame 32: velvet 1.28 / 1.08% → 0.82 / 0.73%,
@@ -76,7 +77,7 @@ mod tests {
     #[test]
     fn linear_functions_are_kept_exactly() {
         let counts = [5, 4, 3];
-        let mut values: Vec<f64> = (0..60)
+        let mut values: Vec<f64> = (0..120)
             .map(|k| {
                 let (c, n) = (k % 2, k / 2);
                 let (x, y, z) = (n % 5, (n / 5) % 4, n / 20);
@@ -101,8 +102,9 @@ mod tests {
             interpolation_error(&samples, f),
             interpolation_error(&fitted, f),
         );
-        // Measured: 1.19% sampled, 0.35% fitted; the bound leaves room for the shape.
-        assert!(after < 0.5 * before, "{before} -> {after}");
+        // Measured: 1.80% sampled, 0.81% fitted (a pure parabola would gain 2.4×, a ridge
+        // this narrow less); a fit of the wrong sign or none at all gives ≥ 1.80%.
+        assert!(after < 0.6 * before, "{before} -> {after}");
     }
 
     #[test]
