@@ -42,7 +42,7 @@ use std::path::{Path, PathBuf};
 /// 4: thread_frame and split_frame texels where ⟨P⟩ ≤ 1e-5 hold 0 (were: ⟨P⟩ < 1e-3 filled
 /// from their neighbours).
 /// 5: thread_frame and split_frame 4D texels hold the least-squares quadrilinear fit
-/// instead of point samples ([`crate::table::prefilter`]).
+/// instead of point samples ([`crate::table::prefilter`]); odd v counts.
 pub const BAKER_REVISION: u32 = 5;
 
 /// The first revision that records the `texels` checksum: from it on the checksum is required.

@@ -90,7 +90,7 @@ impl LayoutUnit for ThreadFrame {
         48
     }
 
-    /// At 96: at most 32 βH slices of 96 × 28 × 80 texels, 26 MiB.
+    /// At 96: at most 32 βH slices of 96 × 28 × 79 texels, 26 MiB.
     fn max_resolution(&self) -> u32 {
         96
     }
@@ -204,8 +204,8 @@ impl AxisPlan {
 
     /// Texels of the non-βH axes (θd', u, v) at `resolution`. The v count is the odd number
     /// nearest to the plan's, so that v = 0 is a texel line: there φi' = φo', where the
-    /// resonant sample's masking min(M(wi), M(wo)) kinks (at split_frame 31, 26 v texels
-    /// instead of 27 read velvet 1.14 / 1.16% instead of 0.82 / 0.73% at 32).
+    /// resonant sample's masking min(M(wi), M(wo)) kinks (split_frame 31 with 26 v texels
+    /// read velvet 1.14 / 1.16%, with 27 0.81 / 0.75%).
     pub fn inner_texels(&self, resolution: u32) -> [usize; 3] {
         let r = resolution as f64;
         let [t, u, v] = self.inner_per_resolution;
@@ -822,8 +822,8 @@ fn bilinear(plane: &Plane, axis: Axis, x: f64, y: f64) -> f64 {
 /// The stored channels of every texel of one thread's 4D table, flattened in plane order:
 /// `ratios(wi, wo, θd')` at each texel's direction pair and θd', then replaced by the node
 /// values of their least-squares quadrilinear fit ([`super::prefilter`]). Rows in
-/// parallel, each sample a pure function of its coordinates and the fit sequential, so the
-/// result is the same for any thread count.
+/// parallel, each sample a pure function of its coordinates and the fit a pure function of
+/// the samples, so the result is the same for any thread count.
 pub fn bake_thread_plane(
     geometry: &ThreadGeometry,
     on_row: &(dyn Fn() + Sync),
