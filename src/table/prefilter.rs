@@ -34,10 +34,12 @@
 pub fn fit_for_multilinear(values: &mut [f64], channels: usize, counts: &[usize]) {
     use rayon::prelude::*;
     debug_assert_eq!(values.len(), channels * counts.iter().product::<usize>());
+    // One scratch copy of the previous pass, refilled per axis.
+    let mut samples = vec![0.0; values.len()];
     let mut stride = channels;
     for &count in counts {
         if count >= 3 {
-            let samples = values.to_vec();
+            samples.copy_from_slice(values);
             values.par_iter_mut().enumerate().for_each(|(k, value)| {
                 let i = (k / stride) % count;
                 if i > 0 && i + 1 < count {
