@@ -272,6 +272,25 @@ impl Plane {
         let start = (y * self.spec.width + x) * c;
         &self.data[start..start + c]
     }
+
+    /// Asks the CPU to start loading the cache line that holds `data[at]`, so that a batch
+    /// lookup can request every corner of its pairs before it interpolates any of them.
+    /// A table of a few MiB is read at random places that miss the core's caches; a pair's
+    /// interpolation waits on them one dependent step at a time, while prefetches for a
+    /// whole batch overlap their waits. Only a hint: no effect on any value, and nothing
+    /// where `at` is out of range or the target has no stable prefetch instruction.
+    #[inline(always)]
+    pub fn prefetch(&self, at: usize) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(value) = self.data.get(at) {
+            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+            // SAFETY: PREFETCHT0 (SSE, part of the x86_64 baseline) never faults and writes
+            // nothing; the pointer is a live element of `data`.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(std::ptr::from_ref(value).cast()) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = at;
+    }
 }
 
 /// A baked table: layout, resolution, the fabric it was baked from, and its planes.

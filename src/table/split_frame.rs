@@ -445,6 +445,20 @@ impl Geometry {
             slopes.map(|s| s.geometry.locate_f32::<L>(&s.fast_axes, wi, wo))
         };
         let located = [locate(0), locate(1)];
+        // A batch requests every pair's table rows before interpolating any (one pair alone
+        // gains nothing from it).
+        if L::WIDTH > 1 {
+            for (j, thread) in self.threads.iter().enumerate() {
+                if let (Some(slopes), Some((table, masking)), Some(located)) =
+                    (&thread.slopes, self.planes[j], &located[j])
+                {
+                    for k in 0..L::WIDTH {
+                        let (table, masking) = (&planes[table], &planes[masking]);
+                        slopes.geometry.prefetch_located(table, masking, located, k);
+                    }
+                }
+            }
+        }
         let points = |j: usize| self.threads[j].samples.sums::<L>(wi, wo);
         let points = [points(0), points(1)];
         let a = self.coverage.map(|a| a as f32);

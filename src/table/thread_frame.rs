@@ -478,6 +478,28 @@ impl ThreadGeometry {
         ]
     }
 
+    /// Prefetches ([`Plane::prefetch`]) the rows that [`Self::sample_located`] reads for
+    /// pair `k` of `at`: the 4D table's eight (two per corner block) and the masking
+    /// table's two.
+    #[inline(always)]
+    pub fn prefetch_located(
+        &self,
+        table: &Plane,
+        masking: &Plane,
+        at: &LocatedPairs<impl Lanes>,
+        k: usize,
+    ) {
+        let lower = |a: usize| at.axes[a].0[k] as usize;
+        let (starts, s1) = corner_blocks(self, [0, 1, 2, 3].map(lower));
+        for start in starts {
+            table.prefetch(start);
+            table.prefetch(start + s1);
+        }
+        let masking_row = lower(5) * MASKING_TEXELS + lower(4);
+        masking.prefetch(masking_row);
+        masking.prefetch(masking_row + MASKING_TEXELS);
+    }
+
     /// The WGSL function `name(wi, wo) -> vec4<f32>` sampling this thread
     /// (`cloth_sample_thread` of `shaders/thread_frame_sample.wgsl`: reflection, transmission,
     /// ⟨P⟩, cos²θd') from the 3D texture `table` and layer `layer` of the masking array
@@ -684,6 +706,11 @@ impl TableLookup for Geometry {
         wo: &[Vec3; BATCH_LANES],
     ) -> [[f32; 3]; BATCH_LANES] {
         let located = self.locate::<BatchLanes>(wi, wo);
+        for k in 0..BATCH_LANES {
+            for (j, thread) in self.threads.iter().enumerate() {
+                thread.prefetch_located(&planes[j], &planes[2 + j], &located[j], k);
+            }
+        }
         let mut terms = [[0.0; 3]; BATCH_LANES];
         for (k, terms) in terms.iter_mut().enumerate() {
             *terms = self.terms_located(planes, &located, k, wo[k].z);
@@ -740,26 +767,36 @@ fn masking_f32(plane: &Plane, [(x0, fx), (y0, fy)]: [(usize, f32); 2]) -> f32 {
     .max(0.0)
 }
 
-/// A thread's stored channels (reflection, transmission) from its 4D plane at the located
-/// texel pairs of its four axes (βH, θd', u, v), quadrilinearly, in f32.
+/// Where the 16 corners of a quadrilinear lookup lie in a thread's 4D plane (f32 units),
+/// given the lower texel of each axis (βH, θd', u, v): the starts of the four corner blocks
+/// (lower and upper v, lower and upper u) and the step along axis 1. Each block is two
+/// rows along axis 1 (at `start` and `start + step1`), each four consecutive floats:
+/// reflection and transmission at i0 and i0 + 1.
 #[inline(always)]
-fn interpolate_f32(thread: &ThreadGeometry, table: &Plane, located: [(usize, f32); 4]) -> [f32; 2] {
-    let [(i0, f0), (i1, f1), (i2, f2), (i3, f3)] = located;
+fn corner_blocks(thread: &ThreadGeometry, [i0, i1, i2, i3]: [usize; 4]) -> ([usize; 4], usize) {
     let n = [0, 1, 2, 3].map(|a| thread.axes[a].texels);
     // Plane row (i2·N3 + i3)·N1 + i1, column i0, two channels per texel: in f32 units
     // the corners along axis 0 are 2 apart, along axis 1 s1, along v s3, along u s2.
     let (s1, s3) = (2 * n[0], 2 * n[0] * n[1]);
     let s2 = s3 * n[3];
     let base = 2 * (((i2 * n[3] + i3) * n[1] + i1) * n[0] + i0);
+    ([base, base + s3, base + s2, base + s2 + s3], s1)
+}
+
+/// A thread's stored channels (reflection, transmission) from its 4D plane at the located
+/// texel pairs of its four axes (βH, θd', u, v), quadrilinearly, in f32.
+#[inline(always)]
+fn interpolate_f32(thread: &ThreadGeometry, table: &Plane, located: [(usize, f32); 4]) -> [f32; 2] {
+    let [(i0, f0), (i1, f1), (i2, f2), (i3, f3)] = located;
+    let (starts, s1) = corner_blocks(thread, [i0, i1, i2, i3]);
     let data = &table.data;
-    // A corner block's two rows along axis 1, each four consecutive floats (reflection and
-    // transmission at i0 and i0 + 1), blended along axis 1 in one SIMD register.
+    // A corner block's two rows blended along axis 1 in one SIMD register.
     let block = |at: usize| {
         let p = &data[at..at + s1 + 4];
         Vec4::from_slice(&p[..4]).lerp(Vec4::from_slice(&p[s1..]), f1)
     };
-    let lower_u = block(base).lerp(block(base + s3), f3);
-    let upper_u = block(base + s2).lerp(block(base + s2 + s3), f3);
+    let lower_u = block(starts[0]).lerp(block(starts[1]), f3);
+    let upper_u = block(starts[2]).lerp(block(starts[3]), f3);
     let blended = lower_u.lerp(upper_u, f2);
     // Last, axis 0: (x, y) at i0, (z, w) at i0 + 1.
     let [reflection, transmission, _, _] = blended.lerp(blended.zwxy(), f0).to_array();
