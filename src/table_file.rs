@@ -43,7 +43,10 @@ use std::path::{Path, PathBuf};
 /// from their neighbours).
 /// 5: thread_frame and split_frame 4D texels hold the least-squares quadrilinear fit
 /// instead of point samples ([`crate::table::prefilter`]); odd v counts.
-pub const BAKER_REVISION: u32 = 5;
+/// 6: the model's θh and cos θd from one atan2 of the summed half-plane directions
+/// (`model::patch::half_angle_and_difference`) instead of two atan2 and a cos: equal up
+/// to rounding, which flips a few f16 texels.
+pub const BAKER_REVISION: u32 = 6;
 
 /// The first revision that records the `texels` checksum: from it on the checksum is required.
 const TEXEL_CHECKSUM_REVISION: u32 = 3;

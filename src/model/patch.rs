@@ -54,6 +54,25 @@ pub struct ThreadModel {
     resonant: Option<ResonantRule>,
 }
 
+/// θh = (θi + θo)/2 and cos θd = cos((θi − θo)/2) from each direction's `(cos θ, sin θ)` up
+/// to a positive scale: `(|w⊥|, w·t)` with θ = atan2(w·t, |w⊥|) as MODEL.md defines it.
+///
+/// The sum of the unit vectors at angles θi and θo is `2 cos θd · (cos θh, sin θh)`, and
+/// cos θd ≥ 0 because |θi − θo| ≤ π (both |w⊥| ≥ 0). So one atan2 of the sum gives θh and
+/// its length gives cos θd: the same values as two atan2 and a cos (up to rounding, an
+/// absolute 1e-16 in each), at about half the cost of the transcendental calls that
+/// dominate the curve means.
+#[inline]
+pub(crate) fn half_angle_and_difference(
+    (cos_i, sin_i): (f64, f64),
+    (cos_o, sin_o): (f64, f64),
+) -> (f64, f64) {
+    let length = |c: f64, s: f64| (c * c + s * s).sqrt();
+    let (li, lo) = (length(cos_i, sin_i), length(cos_o, sin_o));
+    let (x, y) = (cos_i / li + cos_o / lo, sin_i / li + sin_o / lo);
+    (y.atan2(x), 0.5 * length(x, y))
+}
+
 /// `(1 − u)·a·b + u·min(a, b)`: the reweighted product of MODEL.md's M and P.
 #[inline]
 fn reweighted(u: f64, a: f64, b: f64) -> f64 {
@@ -272,10 +291,7 @@ impl ThreadModel {
 
         let si = ti0 * cos_a + zi * sin_a;
         let so = to0 * cos_a + zo * sin_a;
-        let theta_i = si.atan2(perp_i);
-        let theta_o = so.atan2(perp_o);
-        let theta_h = 0.5 * (theta_i + theta_o);
-        let cos_theta_d = (0.5 * (theta_i - theta_o)).cos();
+        let (theta_h, cos_theta_d) = half_angle_and_difference((perp_i, si), (perp_o, so));
         // cos(φd/2) from cos φd by the half-angle formula; φd/2 ∈ [0, π/2].
         let cos_half_phi_d = (0.5 * (1.0 + cos_phi_d)).sqrt();
         let fr = fresnel_dielectric(self.eta, cos_theta_d * cos_half_phi_d);

@@ -30,7 +30,9 @@
 //! - A flat segment (all of its share at one α, e.g. satin's floats) is one node for every
 //!   term.
 
-use super::patch::{PairInThreadFrame, SampleTerms, ThreadMeans, ThreadModel};
+use super::patch::{
+    PairInThreadFrame, SampleTerms, ThreadMeans, ThreadModel, half_angle_and_difference,
+};
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
 
 /// Node counts of the resonant quadrature, per curve segment: Gauss–Legendre nodes for the
@@ -227,16 +229,18 @@ fn normal_quantile(p: f64) -> f64 {
 /// θh at tangent offset α (given by its cosine and sine) and its slope dθh/dα =
 /// (cos φi + cos φo)/2, without the rest of the sample.
 fn theta_h_and_slope(pair: &PairInThreadFrame, cos_a: f64, sin_a: f64) -> (f64, f64) {
-    let half = |t0: f64, z: f64, b: f64| {
+    // (|w⊥|, w·t(α)) and cos φ of one direction.
+    let frame = |t0: f64, z: f64, b: f64| {
         let n = z * cos_a - t0 * sin_a;
         let s = t0 * cos_a + z * sin_a;
         let perp = (n * n + b * b).sqrt();
         let cos_phi = if perp > 0.0 { n / perp } else { 0.0 };
-        (0.5 * s.atan2(perp), 0.5 * cos_phi)
+        ((perp, s), cos_phi)
     };
-    let (hi, ki) = half(pair.ti0, pair.zi, pair.bi);
-    let (ho, ko) = half(pair.to0, pair.zo, pair.bo);
-    (hi + ho, ki + ko)
+    let (i, cos_phi_i) = frame(pair.ti0, pair.zi, pair.bi);
+    let (o, cos_phi_o) = frame(pair.to0, pair.zo, pair.bo);
+    let (theta_h, _) = half_angle_and_difference(i, o);
+    (theta_h, 0.5 * (cos_phi_i + cos_phi_o))
 }
 
 /// Which terms a node adds to the means.
