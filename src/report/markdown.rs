@@ -390,9 +390,12 @@ fn method(report: &Report, md: &mut String) {
         "- **CPU cost**: nanoseconds per evaluation on one thread over a fixed set of {} \
          uniform pairs (seed {:#x}), the median of {} samples, each at least {} ms long \
          (whole passes over the set) after one warm-up pass. Table lookups are \
-         `Table::lookup` in f64 with the albedos applied; paper mode and the direct evaluation \
-         are `Patch::eval`. All timings of a fabric come from the same run, so their ratios \
-         compare like with like.",
+         `Table::lookup_batch` (the f32 CPU path, eight pairs at a time, the texels of a \
+         batch prefetched, the albedos applied) on the pairs rounded to f32; the random \
+         pairs read the table at scattered places, a lookup's worst case for the caches, \
+         where a renderer's neighbouring pixels read neighbouring texels. Paper mode, the \
+         resonant quadrature and the direct evaluation are `Patch::eval`. All timings of a \
+         fabric come from the same run, so their ratios compare like with like.",
         c.timing_pairs,
         super::TIMING_SEED,
         c.timing_samples,
