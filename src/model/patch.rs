@@ -59,9 +59,10 @@ pub struct ThreadModel {
 ///
 /// The sum of the unit vectors at angles θi and θo is `2 cos θd · (cos θh, sin θh)`, and
 /// cos θd ≥ 0 because |θi − θo| ≤ π (both |w⊥| ≥ 0). So one atan2 of the sum gives θh and
-/// its length gives cos θd: the same values as two atan2 and a cos (up to rounding, an
-/// absolute 1e-16 in each), at about half the cost of the transcendental calls that
-/// dominate the curve means.
+/// its length gives cos θd: the same values as two atan2 and a cos up to rounding (about
+/// 1e-16 absolute in cos θd, and 1e-16/cos θd in θh, which grows only where wi and wo lie
+/// within a hair of +t and −t, far inside any lobe's width), at about half the cost of the
+/// transcendental calls that dominate the curve means.
 #[inline]
 pub(crate) fn half_angle_and_difference(
     (cos_i, sin_i): (f64, f64),

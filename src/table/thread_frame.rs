@@ -769,8 +769,8 @@ fn masking_f32(plane: &Plane, [(x0, fx), (y0, fy)]: [(usize, f32); 2]) -> f32 {
 
 /// Where the 16 corners of a quadrilinear lookup lie in a thread's 4D plane (f32 units),
 /// given the lower texel of each axis (βH, θd', u, v): the starts of the four corner blocks
-/// (lower and upper v, lower and upper u) and the step along axis 1. Each block is two
-/// rows along axis 1 (at `start` and `start + step1`), each four consecutive floats:
+/// (lower and upper v, lower and upper u) and the step `s1` along axis 1. Each block is two
+/// rows along axis 1 (at `start` and `start + s1`), each four consecutive floats:
 /// reflection and transmission at i0 and i0 + 1.
 #[inline(always)]
 fn corner_blocks(thread: &ThreadGeometry, [i0, i1, i2, i3]: [usize; 4]) -> ([usize; 4], usize) {
