@@ -17,8 +17,8 @@ use common::*;
 use glam::DVec3;
 use rayon::prelude::*;
 
-/// (fabric, uniform bound, highlight bound), relative RMS. Measured at baker revision 5
-/// (uniform: this test's 2,000 pairs, f64 lookup / `clothbake check`'s 20,000, f32 lookup;
+/// (fabric, uniform bound, highlight bound), relative RMS. Measured at baker revision 5,
+/// which revision 6 matches to every printed digit (the report at 9509d01) (uniform: this test's 2,000 pairs, f64 lookup / `clothbake check`'s 20,000, f32 lookup;
 /// then highlight the same): linen 0.29 / 0.30%, 0.29 / 0.27%; crepe 0.77 / 0.97%, 1.05 /
 /// 0.85%; satin 0.93 / 1.47%, 2.19 / 3.07%; satin back 0.83 / 0.88%, 0.82 / 1.61%;
 /// silk_shot 0.96 / 0.94%, 0.74 / 1.39%; velvet 0.43 / 0.62%, 0.60 / 0.65%.
@@ -94,7 +94,8 @@ fn default_tables_meet_their_measured_error() {
 /// highlight with both directions ≥ 1° above the horizon) bounds on the relative RMS of the
 /// f32 lookup on 20,000 pairs per set (the measurement size; fewer pairs move satin's
 /// figures by ±0.5%), each the measurement plus 20%. Measured (`clothbake check`, same
-/// seeds), baker revision 5 (texels the least-squares fit, v = 0 a texel line), with the
+/// seeds), baker revision 5 (texels the least-squares fit, v = 0 a texel line; revision 6
+/// reads the same), with the
 /// sloped segments of pairs within 1° of the horizon by the resonant quadrature: at 31
 /// (1.9–3.9 MiB) linen 0.57 / 0.57 / 0.58%, crepe 0.19 / 0.25 / 0.17%, satin 0.34 / 0.33 /
 /// 0.34%, satin back 0.24 / 0.21 / 0.24%, silk_shot 0.33 / 0.30 / 0.32%, velvet 0.81 / 0.75 /
