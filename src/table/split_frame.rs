@@ -452,10 +452,8 @@ impl Geometry {
                 if let (Some(slopes), Some((table, masking)), Some(located)) =
                     (&thread.slopes, self.planes[j], &located[j])
                 {
-                    for k in 0..L::WIDTH {
-                        let (table, masking) = (&planes[table], &planes[masking]);
-                        slopes.geometry.prefetch_located(table, masking, located, k);
-                    }
+                    let (table, masking) = (&planes[table], &planes[masking]);
+                    slopes.geometry.prefetch_located(table, masking, located);
                 }
             }
         }

@@ -479,25 +479,21 @@ impl ThreadGeometry {
     }
 
     /// Prefetches ([`Plane::prefetch`]) the rows that [`Self::sample_located`] reads for
-    /// pair `k` of `at`: the 4D table's eight (two per corner block) and the masking
-    /// table's two.
+    /// every pair of `at`: per pair the 4D table's eight (two per corner block) and the
+    /// masking table's two.
     #[inline(always)]
-    pub fn prefetch_located(
-        &self,
-        table: &Plane,
-        masking: &Plane,
-        at: &LocatedPairs<impl Lanes>,
-        k: usize,
-    ) {
-        let lower = |a: usize| at.axes[a].0[k] as usize;
-        let (starts, s1) = corner_blocks(self, [0, 1, 2, 3].map(lower));
-        for start in starts {
-            table.prefetch(start);
-            table.prefetch(start + s1);
+    pub fn prefetch_located<L: Lanes>(&self, table: &Plane, masking: &Plane, at: &LocatedPairs<L>) {
+        for k in 0..L::WIDTH {
+            let lower = |a: usize| at.axes[a].0[k] as usize;
+            let (starts, s1) = corner_blocks(self, [0, 1, 2, 3].map(lower));
+            for start in starts {
+                table.prefetch(start);
+                table.prefetch(start + s1);
+            }
+            let masking_row = lower(5) * MASKING_TEXELS + lower(4);
+            masking.prefetch(masking_row);
+            masking.prefetch(masking_row + MASKING_TEXELS);
         }
-        let masking_row = lower(5) * MASKING_TEXELS + lower(4);
-        masking.prefetch(masking_row);
-        masking.prefetch(masking_row + MASKING_TEXELS);
     }
 
     /// The WGSL function `name(wi, wo) -> vec4<f32>` sampling this thread
@@ -706,10 +702,8 @@ impl TableLookup for Geometry {
         wo: &[Vec3; BATCH_LANES],
     ) -> [[f32; 3]; BATCH_LANES] {
         let located = self.locate::<BatchLanes>(wi, wo);
-        for k in 0..BATCH_LANES {
-            for (j, thread) in self.threads.iter().enumerate() {
-                thread.prefetch_located(&planes[j], &planes[2 + j], &located[j], k);
-            }
+        for (j, thread) in self.threads.iter().enumerate() {
+            thread.prefetch_located(&planes[j], &planes[2 + j], &located[j]);
         }
         let mut terms = [[0.0; 3]; BATCH_LANES];
         for (k, terms) in terms.iter_mut().enumerate() {
