@@ -18,8 +18,9 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 /// (fabric, uniform bound, highlight bound), relative RMS. Measured at baker revision 5,
-/// which revision 6 matches to every printed digit (the report at 9509d01) (uniform: this test's 2,000 pairs, f64 lookup / `clothbake check`'s 20,000, f32 lookup;
-/// then highlight the same): linen 0.29 / 0.30%, 0.29 / 0.27%; crepe 0.77 / 0.97%, 1.05 /
+/// which revision 6 matches to every printed digit (the report at 9509d01); uniform: this
+/// test's 2,000 pairs, f64 lookup / `clothbake check`'s 20,000, f32 lookup; then highlight
+/// the same: linen 0.29 / 0.30%, 0.29 / 0.27%; crepe 0.77 / 0.97%, 1.05 /
 /// 0.85%; satin 0.93 / 1.47%, 2.19 / 3.07%; satin back 0.83 / 0.88%, 0.82 / 1.61%;
 /// silk_shot 0.96 / 0.94%, 0.74 / 1.39%; velvet 0.43 / 0.62%, 0.60 / 0.65%.
 const BOUNDS: [(&str, f64, f64); 6] = [
@@ -92,17 +93,17 @@ fn default_tables_meet_their_measured_error() {
 
 /// split_frame at its default resolution (31) and at 19: per fabric, (uniform, highlight,
 /// highlight with both directions ≥ 1° above the horizon) bounds on the relative RMS of the
-/// f32 lookup on 20,000 pairs per set (the measurement size; fewer pairs move satin's
-/// figures by ±0.5%), each the measurement plus 20%. Measured (`clothbake check`, same
-/// seeds), baker revision 5 (texels the least-squares fit, v = 0 a texel line; revision 6
-/// reads the same), with the
-/// sloped segments of pairs within 1° of the horizon by the resonant quadrature: at 31
-/// (1.9–3.9 MiB) linen 0.57 / 0.57 / 0.58%, crepe 0.19 / 0.25 / 0.17%, satin 0.34 / 0.33 /
-/// 0.34%, satin back 0.24 / 0.21 / 0.24%, silk_shot 0.33 / 0.30 / 0.32%, velvet 0.81 / 0.75 /
-/// 0.79%; at 19 (0.46–0.91 MiB) linen 1.35 / 1.18 / 1.22%, crepe 0.53 / 0.50 / 0.52%, satin
-/// 0.97 / 0.85 / 0.95%, satin back 0.64 / 0.59 / 0.69%, silk_shot 0.93 / 0.88 / 1.02%, velvet
-/// 1.89 / 1.92 / 2.03%. At revision 4 (point samples) split_frame 32 read velvet 1.28 / 1.08
-/// / 1.15% at 4.3 MiB, and 20 velvet 1.99 / 1.82 / 1.93% at 1.08 MiB.
+/// f32 lookup on 20,000 pairs per set (the measurement size; fewer pairs move
+/// satin's figures by ±0.5%), each the measurement plus 20%. Measured (`clothbake check`,
+/// same seeds), baker revision 5 (texels the least-squares fit, v = 0 a texel line;
+/// revision 6 reads the same), with the sloped segments of pairs within 1° of the horizon
+/// by the resonant quadrature: at 31 (1.9–3.9 MiB) linen 0.57 / 0.57 / 0.58%, crepe 0.19 /
+/// 0.25 / 0.17%, satin 0.34 / 0.33 / 0.34%, satin back 0.24 / 0.21 / 0.24%, silk_shot 0.33
+/// / 0.30 / 0.32%, velvet 0.81 / 0.75 / 0.79%; at 19 (0.46–0.91 MiB) linen 1.35 / 1.18 /
+/// 1.22%, crepe 0.53 / 0.50 / 0.52%, satin 0.97 / 0.85 / 0.95%, satin back 0.64 / 0.59 /
+/// 0.69%, silk_shot 0.93 / 0.88 / 1.02%, velvet 1.89 / 1.92 / 2.03%. At revision 4 (point
+/// samples) split_frame 32 read velvet 1.28 / 1.08 / 1.15% at 4.3 MiB, and 20 velvet 1.99 /
+/// 1.82 / 1.93% at 1.08 MiB.
 const SPLIT_FRAME_BOUNDS: [(&str, [[f64; 3]; 2]); 6] = [
     (
         "linen_plain",
