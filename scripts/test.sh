@@ -8,14 +8,14 @@ cd "$(dirname "$0")/.."
 # The core and the Bevy plugin in one build graph: the dependencies they share build once,
 # and cargo schedules both packages' crates together on CI's two cores (1.94 busy on
 # average in a `--timings` run of this build). Features unify across the workspace (the
-# plugin links the core with its runtime here; tests/feature_split.rs keeps the plugin off
-# the runtime's modules); the CLI without the runtime is built and tested below. The plugin's
-# headless comparison runs the `clothbake` binary of this same build (CLOTHBAKE_BIN) rather
-# than building it again with the core's own feature set.
+# plugin links the core with its runtime here; tests/repository/feature_split.rs keeps the
+# plugin off the runtime's modules); the CLI without the runtime is built and tested below.
+# The plugin's headless comparison runs the `clothbake` binary of this same build
+# (CLOTHBAKE_BIN) rather than building it again with the core's own feature set.
 CLOTHBAKE_BIN="$PWD/target/release/clothbake" cargo test --release --locked --workspace
-# Without the runtime: the CLI without `render`/`view`/`report` (its own tests, `cli` and
-# `bake_cli`, against that binary). Nothing else needs running again: the feature only
-# changes lib.rs's list of modules and main.rs's commands (tests/feature_split.rs keeps it
-# so), and the core modules build the same either way. The workspace's feature unification
-# differs here, so some dependencies build a second time.
-cargo test --release --locked --no-default-features --bins --test cli --test bake_cli
+# Without the runtime: the CLI without `render`/`view`/`report` (its own test binary, `cli`,
+# tests/cli/, against that binary). Nothing else needs running again: the feature only
+# changes lib.rs's list of modules and main.rs's commands (tests/repository/feature_split.rs
+# keeps it so), and the core modules build the same either way. The workspace's feature
+# unification differs here, so some dependencies build a second time.
+cargo test --release --locked --no-default-features --bins --test cli

@@ -5,7 +5,8 @@
 //! the bin, bins expecting fewer than [`MIN_EXPECTED`] are merged, and Pearson's statistic is
 //! compared with the chi-square quantile at a Šidák-corrected significance.
 //!
-//! Included with `#[path]` by the sampling tests only (not through `common`).
+//! Included with `#[path]` by the binaries with sampling tests, `sampling` and `gpu`, only (not
+//! through `common`).
 
 use clothbake::sampling::{COLUMNS, ROWS};
 use glam::DVec3;

@@ -1,0 +1,135 @@
+//! Bad table files give Bevy's usual asset error, naming the file and what is wrong, and never
+//! a panic: truncated, damaged texels, not an EXR at all, missing, too large.
+
+use crate::common::{bake_tables, headless_app, scratch};
+
+use bevy::asset::LoadState;
+use bevy::prelude::*;
+use bevy::render::renderer::RenderAdapterInfo;
+use bevy::shader::Shader;
+use clothbake_bevy::ClothTable;
+use std::time::{Duration, Instant};
+
+#[test]
+fn bad_tables_fail_to_load_with_a_reason() {
+    let dir = scratch("loader");
+    bake_tables(&dir, &["linen_plain"]);
+    let good = std::fs::read(dir.join("linen_plain.exr")).unwrap();
+    std::fs::write(dir.join("truncated.exr"), &good[..good.len() / 2]).unwrap();
+    // One bit flipped in the last layer's compressed texels.
+    let mut damaged = good.clone();
+    let at = damaged.len() - 64;
+    damaged[at] ^= 0x40;
+    std::fs::write(dir.join("damaged.exr"), &damaged).unwrap();
+    std::fs::write(dir.join("not_a_table.exr"), b"#?RADIANCE\nnot an EXR").unwrap();
+    // Larger than any table (sparse: no disk used): refused after reading one byte more than
+    // the limit, not read whole.
+    std::fs::File::create(dir.join("huge.exr"))
+        .unwrap()
+        .set_len(4 * clothbake::table_file::MAX_TABLE_FILE_BYTES)
+        .unwrap();
+    let cases = [
+        ("linen_plain.exr", None),
+        ("truncated.exr", Some("truncated.exr")),
+        ("damaged.exr", Some("damaged.exr")),
+        ("not_a_table.exr", Some("not_a_table.exr")),
+        ("missing.exr", Some("missing.exr")),
+        ("huge.exr", Some("larger than any table")),
+    ];
+
+    let mut app = headless_app(&dir);
+    app.finish();
+    app.cleanup();
+    let handles: Vec<Handle<ClothTable>> = {
+        let server = app.world().resource::<AssetServer>();
+        cases.iter().map(|(path, _)| server.load(*path)).collect()
+    };
+    let start = Instant::now();
+    loop {
+        app.update();
+        let server = app.world().resource::<AssetServer>();
+        let states: Vec<LoadState> = handles.iter().map(|h| server.load_state(h)).collect();
+        if states
+            .iter()
+            .all(|s| matches!(s, LoadState::Loaded | LoadState::Failed(_)))
+        {
+            for ((path, expected), state) in cases.iter().zip(&states) {
+                match (expected, state) {
+                    (None, LoadState::Loaded) => println!("{path}: loaded"),
+                    (Some(name), LoadState::Failed(error)) => {
+                        let message = error.to_string();
+                        println!("{path}: {message}");
+                        assert!(message.contains(name), "{path}: {message}");
+                    }
+                    _ => panic!("{path}: {state:?}"),
+                }
+            }
+            let tables = app.world().resource::<Assets<ClothTable>>();
+            let table = tables.get(&handles[0]).expect("the good table");
+            assert_eq!(table.fabric, "linen_plain");
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "loads still pending: {states:?}"
+        );
+    }
+}
+
+/// The loader's shader has split_frame's horizon band on a GPU and leaves it out on a
+/// software adapter (which would run the band's resonant kernel in every pixel), as
+/// `clothbake render` does: `ClothPlugin` registers the loader for Bevy's adapter.
+#[test]
+fn split_frame_shader_follows_the_adapter() {
+    let dir = scratch("loader-split-frame");
+    let fabric = clothbake::fabric_file::FabricSet::builtin()
+        .get("linen_plain")
+        .expect("built-in fabric")
+        .clone();
+    let table = clothbake::bake::bake(&fabric, clothbake::table::Layout::SPLIT_FRAME, 16, &|| {})
+        .expect("bake");
+    clothbake::table_file::write_table(&dir.join("linen_plain.exr"), &table).expect("write");
+
+    let mut app = headless_app(&dir);
+    app.finish();
+    app.cleanup();
+    let adapter = app.world().resource::<RenderAdapterInfo>();
+    let software = format!("{:?}", adapter.device_type) == "Cpu";
+    println!(
+        "Bevy's adapter: {} ({:?})",
+        adapter.name, adapter.device_type
+    );
+    let handle: Handle<ClothTable> = app
+        .world()
+        .resource::<AssetServer>()
+        .load("linen_plain.exr");
+    let start = Instant::now();
+    loop {
+        app.update();
+        let server = app.world().resource::<AssetServer>();
+        let state = server.load_state(&handle);
+        if let LoadState::Failed(error) = &state {
+            panic!("{error}");
+        }
+        let tables = app.world().resource::<Assets<ClothTable>>();
+        let shaders = app.world().resource::<Assets<Shader>>();
+        if let Some(source) = tables
+            .get(&handle)
+            .and_then(|table| shaders.get(&table.shader))
+            .map(|shader| shader.source.as_str())
+        {
+            let band = source.contains("fn cloth_resonant_means_");
+            println!(
+                "split_frame shader: horizon band {}",
+                if band { "in" } else { "left out" }
+            );
+            assert_eq!(band, !software);
+            assert!(source.contains("fn cloth_brdf("));
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "load still pending: {state:?}"
+        );
+    }
+}

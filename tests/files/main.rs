@@ -1,0 +1,9 @@
+//! File formats read as untrusted input: fabric files (`clothbake::fabric_file`).
+//!
+//! One binary per part of the crate, each module a former test file: each integration-test
+//! binary is another release link of the whole crate with wgpu, naga, exr and ash.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod fabric_file;

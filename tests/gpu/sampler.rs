@@ -1,0 +1,133 @@
+//! The WGSL fabric sampler (shaders/sampling.wgsl) on the device wgpu finds (lavapipe in
+//! CI): its draws follow the CPU sampler's density (chi-square, every built-in fabric, the
+//! eight outgoing directions of the CPU test), and the density it returns is the CPU's.
+//!
+//! Needs a wgpu adapter; without a GPU, Mesa's lavapipe (`apt-get install -y
+//! mesa-vulkan-drivers libvulkan1`). No adapter is a failure, not a skip.
+
+use crate::chi2;
+
+use crate::common::{builtin, dir, gpu_context};
+use clothbake::gpu::GpuSampler;
+use clothbake::sampling::{COLUMNS, ROWS, Sampler};
+use glam::{DVec3, Vec3};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
+
+/// Draws per outgoing direction.
+const DRAWS: usize = 200_000;
+/// Overall significance of all GPU chi-square tests together.
+const ALPHA: f64 = 0.01;
+/// Largest relative difference of the GPU's density from the CPU's away from cell edges:
+/// f32 CDF differences are exact on both sides, so what is left is f32 rounding in the
+/// bilinear weights and the cell's solid angle, whose z_{r+1} − z_r cancels next to the
+/// normal: sin's ~6e-8 over 1 − cos(90°/32) ≈ 1.2e-3 is 5e-5 (measured 6.2e-5 on
+/// lavapipe).
+const PDF_RELATIVE: f64 = 1e-4;
+
+/// Whether `w` is within 1e-5 rad (about a hundred f32 roundings of the angles) of an
+/// edge of the sampler's cells, where the f32 and f64 sides may pick neighbouring cells
+/// (about 6 draws in 10⁴: the band is 2e-5 rad of every 0.05 rad row and 0.1 rad sector).
+fn near_cell_edge(w: DVec3) -> bool {
+    use std::f64::consts::{FRAC_PI_2, TAU};
+    let near = |angle: f64, step: f64| {
+        let x = angle / step;
+        (x - x.round()).abs() * step < 1e-5
+    };
+    near(w.z.atan2(w.x.hypot(w.y)), FRAC_PI_2 / ROWS as f64)
+        || near(w.y.atan2(w.x), TAU / COLUMNS as f64)
+}
+
+#[test]
+fn wgsl_draws_follow_the_cpu_density() {
+    let context = gpu_context();
+    let fabrics = builtin();
+    let threshold = chi2::sidak(ALPHA, fabrics.len() * chi2::OUTGOING.len());
+    let mut failures = Vec::new();
+    let (mut worst_pdf, mut off_cell) = (0.0f64, 0usize);
+    for fabric in &fabrics {
+        let sampler = Sampler::for_fabric(fabric);
+        let gpu = GpuSampler::new(&context, &sampler).unwrap();
+        let mut rng = Pcg64::seed_from_u64(0x6b0_5a3e);
+        for &(elevation, azimuth) in &chi2::OUTGOING {
+            let wo = dir(elevation, azimuth);
+            let requests: Vec<(Vec3, Vec3)> = (0..DRAWS)
+                .map(|_| {
+                    let u = Vec3::new(rng.random(), rng.random(), rng.random());
+                    (wo.as_vec3(), u)
+                })
+                .collect();
+            let draws = gpu.draw(&context, &requests).unwrap();
+            let mass = chi2::expected_mass(|wi| sampler.pdf(wo, wi));
+            let mut observed = vec![0u64; mass.len()];
+            let mut rejected = 0usize;
+            for d in &draws {
+                if d[3] <= 0.0 {
+                    rejected += 1;
+                    continue;
+                }
+                let wi = DVec3::new(d[0] as f64, d[1] as f64, d[2] as f64);
+                observed[chi2::bin_of(wi)] += 1;
+                // The f32 density against the CPU's at the same direction. Draws within
+                // f32 rounding of a cell edge may be placed in the neighbouring cell by one
+                // side and not the other; those are counted, not compared.
+                let cpu = sampler.pdf(wo, wi.normalize());
+                if near_cell_edge(wi) {
+                    off_cell += 1;
+                } else {
+                    worst_pdf = worst_pdf.max((d[3] as f64 - cpu).abs() / cpu);
+                }
+            }
+            assert!(
+                rejected * 1000 < DRAWS,
+                "{rejected} of {DRAWS} GPU draws rejected"
+            );
+            let label = format!("{:<28} wo {elevation:>4}°/{azimuth:>3}°", fabric.name);
+            failures.extend(chi2::test(&label, &observed, &mass, DRAWS, threshold));
+        }
+    }
+    let total = fabrics.len() * chi2::OUTGOING.len() * DRAWS;
+    println!(
+        "GPU pdf against CPU pdf: worst relative difference {worst_pdf:.2e}; \
+         {off_cell} of {total} draws within 1e-5 rad of a cell edge"
+    );
+    assert!(worst_pdf < PDF_RELATIVE, "GPU pdf off by {worst_pdf:.2e}");
+    assert!(
+        failures.is_empty(),
+        "chi-square rejects (threshold p {threshold:.2e}): {failures:#?}"
+    );
+}
+
+#[test]
+fn wgsl_pdf_is_the_cpu_pdf() {
+    let context = gpu_context();
+    let fabric = builtin().into_iter().find(|f| f.name == "velvet").unwrap();
+    let sampler = Sampler::for_fabric(&fabric);
+    let gpu = GpuSampler::new(&context, &sampler).unwrap();
+    let pairs = clothbake::direction_sets::uniform_pairs(20_000, 0x9df);
+    let gpu_pdf = gpu
+        .pdf(
+            &context,
+            &pairs
+                .iter()
+                .map(|(wo, wi)| (wo.as_vec3(), wi.as_vec3()))
+                .collect::<Vec<_>>(),
+        )
+        .unwrap();
+    let mut close = 0;
+    for ((wo, wi), g) in pairs.iter().zip(&gpu_pdf) {
+        let cpu = sampler.pdf(
+            wo.as_vec3().as_dvec3().normalize(),
+            wi.as_vec3().as_dvec3().normalize(),
+        );
+        if (*g as f64 - cpu).abs() <= PDF_RELATIVE * cpu {
+            close += 1;
+        }
+    }
+    // Random pairs land within f32 rounding of a cell edge about 1 time in 10^5.
+    assert!(
+        close * 1000 >= pairs.len() * 999,
+        "{close} of {} pdfs agree",
+        pairs.len()
+    );
+}

@@ -1,0 +1,174 @@
+//! Table accuracy against the direct evaluation, for all six fabrics at the default layout
+//! and resolution (what `clothbake bake` writes).
+//!
+//! The bounds are set from measurement. A relative RMS over a few thousand pairs is
+//! dominated by a handful of pairs within a degree of the horizon, so it moves between
+//! seeds (satin, highlight pairs: 2.19% on this test's 2,000, 3.07% on `clothbake check`'s
+//! 20,000). Each bound is the larger of the two measurements plus 20%. Five fabrics meet
+//! 2% on both sets of 20,000; satin's highlight pairs (3.07%) do not (README, "Tables").
+
+use crate::common::*;
+use clothbake::bake::bake;
+use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
+use clothbake::model::{Integration, Patch};
+use clothbake::table::Layout;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// (fabric, uniform bound, highlight bound), relative RMS. Measured at baker revision 5,
+/// which revision 6 matches to every printed digit (the report at 9509d01); uniform: this
+/// test's 2,000 pairs, f64 lookup / `clothbake check`'s 20,000, f32 lookup; then highlight
+/// the same: linen 0.29 / 0.30%, 0.29 / 0.27%; crepe 0.77 / 0.97%, 1.05 /
+/// 0.85%; satin 0.93 / 1.47%, 2.19 / 3.07%; satin back 0.83 / 0.88%, 0.82 / 1.61%;
+/// silk_shot 0.96 / 0.94%, 0.74 / 1.39%; velvet 0.43 / 0.62%, 0.60 / 0.65%.
+const BOUNDS: [(&str, f64, f64); 6] = [
+    ("linen_plain", 0.0036, 0.0035),
+    ("silk_crepe_de_chine", 0.0116, 0.0126),
+    ("polyester_satin_charmeuse", 0.0176, 0.0369),
+    ("polyester_satin_charmeuse_back", 0.0105, 0.0193),
+    ("silk_shot", 0.0115, 0.0166),
+    ("velvet", 0.0074, 0.0078),
+];
+/// Both directions at least 15° above the horizon: measured 0.21–0.96% (this test's pairs).
+const ABOVE_15_BOUND: f64 = 0.0115;
+
+#[test]
+fn default_tables_meet_their_measured_error() {
+    let layout = Layout::THREAD_FRAME;
+    for (name, uniform_bound, highlight_bound) in BOUNDS {
+        let fabric = fabric(name);
+        let table = bake(&fabric, layout, layout.default_resolution(), &|| {}).unwrap();
+        let direct = Patch::new(&fabric, Integration::Direct);
+        let compare = |pairs: Vec<(DVec3, DVec3)>| -> (Vec<DVec3>, Vec<DVec3>, Vec<bool>) {
+            let above = 15f64.to_radians().sin();
+            let rows: Vec<(DVec3, DVec3, bool)> = pairs
+                .par_iter()
+                .map(|&(wi, wo)| {
+                    (
+                        table.lookup(wi, wo),
+                        direct.eval(wi, wo),
+                        wi.z >= above && wo.z >= above,
+                    )
+                })
+                .collect();
+            (
+                rows.iter().map(|r| r.0).collect(),
+                rows.iter().map(|r| r.1).collect(),
+                rows.iter().map(|r| r.2).collect(),
+            )
+        };
+        let (ut, ud, high) = compare(uniform_pairs(2000, 101));
+        let (ht, hd, _) = compare(highlight_pairs(&fabric, 2000, 102));
+        let pick = |v: &[DVec3]| -> Vec<DVec3> {
+            v.iter()
+                .zip(&high)
+                .filter(|(_, h)| **h)
+                .map(|(x, _)| *x)
+                .collect()
+        };
+        let (uniform, highlight) = (relative_rms(&ut, &ud), relative_rms(&ht, &hd));
+        let above = relative_rms(&pick(&ut), &pick(&ud));
+        println!(
+            "{name}: {} KiB, relative RMS {:.2}% uniform, {:.2}% highlight, {:.2}% above 15°",
+            table.byte_size() / 1024,
+            100.0 * uniform,
+            100.0 * highlight,
+            100.0 * above
+        );
+        assert!(
+            table.byte_size() <= 16 << 20,
+            "{name}: {} bytes",
+            table.byte_size()
+        );
+        assert!(uniform <= uniform_bound, "{name}: uniform {uniform}");
+        assert!(
+            highlight <= highlight_bound,
+            "{name}: highlight {highlight}"
+        );
+        assert!(above <= ABOVE_15_BOUND, "{name}: above 15° {above}");
+    }
+}
+
+/// split_frame at its default resolution (31) and at 19: per fabric, (uniform, highlight,
+/// highlight with both directions ≥ 1° above the horizon) bounds on the relative RMS of the
+/// f32 lookup on 20,000 pairs per set (the issue's measurement size; fewer pairs move
+/// satin's figures by ±0.5%), each the measurement plus 20%. Measured (`clothbake check`,
+/// same seeds), baker revision 5 (texels the least-squares fit, v = 0 a texel line;
+/// revision 6 reads the same), with the sloped segments of pairs within 1° of the horizon
+/// by the resonant quadrature: at 31 (1.9–3.9 MiB) linen 0.57 / 0.57 / 0.58%, crepe 0.19 /
+/// 0.25 / 0.17%, satin 0.34 / 0.33 / 0.34%, satin back 0.24 / 0.21 / 0.24%, silk_shot 0.33
+/// / 0.30 / 0.32%, velvet 0.81 / 0.75 / 0.79%; at 19 (0.46–0.91 MiB) linen 1.35 / 1.18 /
+/// 1.22%, crepe 0.53 / 0.50 / 0.52%, satin 0.97 / 0.85 / 0.95%, satin back 0.64 / 0.59 /
+/// 0.69%, silk_shot 0.93 / 0.88 / 1.02%, velvet 1.89 / 1.92 / 2.03%. At revision 4 (point
+/// samples) split_frame 32 read velvet 1.28 / 1.08 / 1.15% at 4.3 MiB, and 20 velvet 1.99 /
+/// 1.82 / 1.93% at 1.08 MiB.
+const SPLIT_FRAME_BOUNDS: [(&str, [[f64; 3]; 2]); 6] = [
+    (
+        "linen_plain",
+        [[0.0068, 0.0068, 0.0070], [0.0162, 0.0142, 0.0146]],
+    ),
+    (
+        "silk_crepe_de_chine",
+        [[0.0023, 0.0030, 0.0021], [0.0063, 0.0060, 0.0062]],
+    ),
+    (
+        "polyester_satin_charmeuse",
+        [[0.0040, 0.0039, 0.0040], [0.0117, 0.0102, 0.0114]],
+    ),
+    (
+        "polyester_satin_charmeuse_back",
+        [[0.0029, 0.0025, 0.0029], [0.0077, 0.0071, 0.0083]],
+    ),
+    (
+        "silk_shot",
+        [[0.0039, 0.0036, 0.0039], [0.0111, 0.0105, 0.0123]],
+    ),
+    (
+        "velvet",
+        [[0.0098, 0.0090, 0.0095], [0.0227, 0.0230, 0.0244]],
+    ),
+];
+/// The resolutions of [`SPLIT_FRAME_BOUNDS`], the largest table each may be and the error
+/// the issue "Tables worth baking" asks of uniform and highlight pairs at that size: ≤ 1%
+/// within 4 MiB, ≤ 2% within 1 MiB.
+const SPLIT_FRAME_TARGETS: [(u32, usize, f64); 2] = [(31, 4 << 20, 0.01), (19, 1 << 20, 0.02)];
+
+#[test]
+fn split_frame_tables_meet_their_measured_error() {
+    let layout = Layout::SPLIT_FRAME;
+    for (name, bounds) in SPLIT_FRAME_BOUNDS {
+        let fabric = fabric(name);
+        let reference = clothbake::accuracy::Reference::new(&fabric, 20_000);
+        for ((resolution, max_bytes, target), [uniform, highlight, above_1]) in
+            SPLIT_FRAME_TARGETS.into_iter().zip(bounds)
+        {
+            let table = bake(&fabric, layout, resolution, &|| {}).unwrap();
+            let error = reference.measure(|wi, wo| clothbake::accuracy::lookup_f32(&table, wi, wo));
+            println!(
+                "{name}: split_frame {resolution} {} KiB, relative RMS {:.2}% uniform, \
+                 {:.2}% highlight, {:.2}% highlight ≥ 1°",
+                table.byte_size() / 1024,
+                100.0 * error.uniform.relative_rms,
+                100.0 * error.highlight.relative_rms,
+                100.0 * error.highlight_above_1deg.relative_rms,
+            );
+            assert!(
+                table.byte_size() <= max_bytes,
+                "{name}: {} bytes",
+                table.byte_size()
+            );
+            assert!(
+                error.uniform.relative_rms <= uniform.min(target),
+                "{name} {resolution}: {error:?}"
+            );
+            assert!(
+                error.highlight.relative_rms <= highlight.min(target),
+                "{name} {resolution}: {error:?}"
+            );
+            assert!(
+                error.highlight_above_1deg.relative_rms <= above_1,
+                "{name} {resolution}: {error:?}"
+            );
+        }
+    }
+}

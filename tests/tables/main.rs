@@ -1,0 +1,13 @@
+//! Tables (`clothbake::table`, `clothbake::table_file`, `clothbake::bake`): the CPU lookup
+//! of every layout, bakes, the EXR files, the default tables' accuracy against the direct
+//! evaluation, and the lookup's translations to other shading languages.
+//!
+//! One binary per part of the crate, each module a former test file: each integration-test
+//! binary is another release link of the whole crate with wgpu, naga, exr and ash.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod accuracy;
+mod shader_language;
+mod table;
