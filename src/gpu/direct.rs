@@ -231,7 +231,7 @@ impl GpuBrdf for GpuDirect {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fabric_file::FabricSet;
+    use crate::formats::fabric_toml::FabricSet;
 
     #[test]
     fn uniform_sizes_match_wgsl() {

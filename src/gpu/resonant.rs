@@ -128,7 +128,7 @@ impl GpuBrdf for GpuResonant {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fabric_file::FabricSet;
+    use crate::formats::fabric_toml::FabricSet;
     use crate::model::curve::{Integration, curve_pieces};
 
     #[test]

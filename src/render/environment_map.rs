@@ -3,9 +3,9 @@
 //! texture, its trilinear sampler and the fabric's importance sampler
 //! ([`crate::gpu::GpuSampler`]) that filtered importance sampling draws from.
 
-use crate::environment::Environment;
 use crate::gpu::sampler::sampler_entry;
 use crate::gpu::{GpuContext, GpuError, GpuSampler};
+use crate::lighting::Environment;
 use half::f16;
 
 /// Largest f16 value: brighter texels (the sun of a captured sky) are clamped to it.

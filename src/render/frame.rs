@@ -34,7 +34,7 @@ impl FrameSettings {
             exposure: scene.exposure as f32,
             background: BACKGROUND,
             environment_samples: match scene.environment.source {
-                crate::environment::EnvironmentSource::None => 0,
+                crate::lighting::EnvironmentSource::None => 0,
                 _ => scene.environment.samples,
             },
         }

@@ -7,13 +7,13 @@ use super::image::{
 };
 use super::reference::ReferenceEnvironment;
 use super::{FrameSettings, GpuEnvironment, Headless, RenderOutput, reference};
-use crate::fabric_file::FabricSet;
+use crate::formats::fabric_toml::FabricSet;
+use crate::formats::table_exr::{TableFile, read_table};
 use crate::gpu::{GpuBrdf, GpuConstant, GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
-use crate::mesh::Mesh;
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
-use crate::table_file::{TableFile, read_table};
+use crate::scene::mesh::Mesh;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -136,7 +136,8 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     let fabrics: Vec<Fabric> = names
         .iter()
         .map(|name| set.require(name).cloned())
-        .collect::<Result<_, _>>()?;
+        .collect::<Result<_, _>>()
+        .map_err(|e| e.to_string())?;
     // The environment, then the tables: a bad file or a missing table is an error before
     // any GPU work.
     let environment = job

@@ -6,8 +6,9 @@
 
 use super::image::LinearImage;
 use super::{FrameSettings, GBuffer};
-use crate::environment::{Environment, EnvironmentSampler};
+use crate::lighting::Environment;
 use crate::model::Patch;
+use crate::sampling::EnvironmentSampler;
 use crate::sampling::{Sampler, hammersley};
 use glam::DVec3;
 use rand::{Rng, SeedableRng};

@@ -12,7 +12,7 @@ use super::headless::target;
 use super::image;
 use crate::gpu::sampler::sampling_wgsl;
 use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampler};
-use crate::mesh::{Mesh, Vertex};
+use crate::scene::mesh::{Mesh, Vertex};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 

@@ -9,11 +9,11 @@
 
 use super::ReportConfig;
 use crate::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, GpuResonant, GpuTable};
-use crate::mesh::Mesh;
 use crate::model::{Integration, Patch, ResonantNodes};
 use crate::render::image::{LinearImage, image_error};
 use crate::render::{FrameSettings, Headless, reference};
 use crate::scene::Scene;
+use crate::scene::mesh::Mesh;
 use crate::table::Table;
 use serde::Serialize;
 use std::time::Instant;

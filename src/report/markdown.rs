@@ -381,9 +381,9 @@ fn method(report: &Report, md: &mut String) {
          least 15° above the horizon — the sets of `clothbake check` (src/accuracy.rs, \
          src/direction_sets.rs).",
         c.error_pairs,
-        crate::accuracy::UNIFORM_SEED,
+        crate::measure::accuracy::UNIFORM_SEED,
         c.error_pairs,
-        crate::accuracy::HIGHLIGHT_SEED
+        crate::measure::accuracy::HIGHLIGHT_SEED
     );
     let _ = writeln!(
         md,

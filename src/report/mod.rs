@@ -2,8 +2,8 @@
 //! JSON and PNG plots.
 //!
 //! For every fabric it measures, against the direct evaluation (MODEL.md's ground truth)
-//! on the seeded validation sets of [`crate::direction_sets`] (through
-//! [`crate::accuracy::Reference`]):
+//! on the seeded validation sets of [`crate::measure::direction_sets`] (through
+//! [`crate::measure::accuracy::Reference`]):
 //!
 //! - each layout over a range of resolutions: table size, relative RMS error (uniform,
 //!   highlight, both directions ≥ 15° above the horizon), CPU nanoseconds per lookup and
@@ -31,9 +31,9 @@ pub mod markdown;
 pub mod plots;
 pub mod timing;
 
-use crate::accuracy::{Reference, TableError, lookup_batch_sum, lookup_f32};
 use crate::bake::{BakeError, bake};
-use crate::direction_sets::{highlight_pairs, uniform_pairs};
+use crate::measure::accuracy::{Reference, TableError, lookup_batch_sum, lookup_f32};
+use crate::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::table::{Layout, Table};
 use glam::DVec3;
@@ -514,9 +514,12 @@ fn measure_fabric(
             (n, patch, error)
         })
         .collect();
-    let uniform_set = uniform_pairs(config.error_pairs, crate::accuracy::UNIFORM_SEED);
-    let highlight_set =
-        highlight_pairs(fabric, config.error_pairs, crate::accuracy::HIGHLIGHT_SEED);
+    let uniform_set = uniform_pairs(config.error_pairs, crate::measure::accuracy::UNIFORM_SEED);
+    let highlight_set = highlight_pairs(
+        fabric,
+        config.error_pairs,
+        crate::measure::accuracy::HIGHLIGHT_SEED,
+    );
     let resonants: Vec<(ResonantNodes, Patch, TableError, EvaluationsPerLight)> = config
         .resonant_nodes
         .iter()

@@ -926,7 +926,7 @@ mod tests {
     #[test]
     fn thread_texture_pads_u_blocks_with_edge_copies() {
         use crate::table::{Layout, PlaneSpec};
-        let fabric = crate::fabric_file::FabricSet::builtin().fabrics()[0].clone();
+        let fabric = crate::formats::fabric_toml::FabricSet::builtin().fabrics()[0].clone();
         let geometry = Geometry::new(&fabric, 4);
         let thread = &geometry.threads[0];
         let spec: PlaneSpec = Layout::THREAD_FRAME.plane_specs(&fabric, 4)[0].clone();

@@ -196,7 +196,7 @@ mod tests {
 
     #[test]
     fn generated_lookup_is_valid_wgsl_for_every_layout_and_builtin_fabric() {
-        for fabric in crate::fabric_file::FabricSet::builtin().fabrics() {
+        for fabric in crate::formats::fabric_toml::FabricSet::builtin().fabrics() {
             for (&layout, horizon_band) in Layout::ALL.iter().flat_map(|l| [(l, true), (l, false)])
             {
                 let table = empty_table(fabric, layout);

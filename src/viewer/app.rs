@@ -8,9 +8,9 @@ use super::controls::{
 };
 use super::timer::GpuTimer;
 use super::{Shading, ViewError, ViewSummary};
-use crate::environment::Environment;
+use crate::formats::table_exr::TableFile;
 use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
-use crate::mesh::Mesh;
+use crate::lighting::Environment;
 use crate::model::{Fabric, ResonantNodes};
 use crate::render::job::load_table;
 use crate::render::{
@@ -18,7 +18,7 @@ use crate::render::{
 };
 use crate::sampling::Sampler;
 use crate::scene::Scene;
-use crate::table_file::TableFile;
+use crate::scene::mesh::Mesh;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};

@@ -18,10 +18,10 @@ mod app;
 pub mod controls;
 mod timer;
 
-use crate::fabric_file::FabricSet;
-use crate::mesh::Mesh;
+use crate::formats::fabric_toml::FabricSet;
 use crate::model::Fabric;
 use crate::render::job::load_table;
+use crate::scene::mesh::Mesh;
 use crate::scene::{MeshKind, MeshSpec, OrbitCamera, Scene};
 use std::path::{Path, PathBuf};
 
@@ -148,7 +148,7 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
         .iter()
         .map(|name| set.require(name).cloned())
         .collect::<Result<_, _>>()
-        .map_err(ViewError::Setup)?;
+        .map_err(|e| ViewError::Setup(e.to_string()))?;
     // The first table before any window: a missing or stale table is reported at once (the
     // others when selected).
     let table = load_table(&options.tables, &fabrics[first]).map_err(ViewError::Setup)?;

@@ -12,7 +12,7 @@
 //!     mut meshes: ResMut<Assets<Mesh>>,
 //!     mut materials: ResMut<Assets<ClothMaterial>>,
 //! ) {
-//!     let drape = clothbake::mesh::Mesh::drape(160, 9, 0.1);
+//!     let drape = clothbake::scene::mesh::Mesh::drape(160, 9, 0.1);
 //!     commands.spawn((
 //!         Mesh3d(meshes.add(cloth_mesh(&drape))),
 //!         MeshMaterial3d(materials.add(ClothMaterial::load(&assets, "velvet.exr"))),

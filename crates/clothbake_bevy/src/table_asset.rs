@@ -28,7 +28,7 @@ use clothbake::sampling::{
 };
 use clothbake::table::TextureData;
 use clothbake::table::wgsl::{LookupShaderOptions, lookup_wgsl_in_group};
-use clothbake::table_file::{MAX_TABLE_FILE_BYTES, TableFileError, read_table_bytes};
+use clothbake::formats::table_exr::{MAX_TABLE_FILE_BYTES, TableFileError, read_table_bytes};
 
 /// The fragment shader template; the loader puts the table's lookup at this marker line.
 const TEMPLATE: &str = include_str!("cloth_material.wgsl");
@@ -146,7 +146,7 @@ impl AssetLoader for ClothTableLoader {
         let sampler = Sampler::for_table(table);
         let albedo = AlbedoMap::build(
             &sampler,
-            |wi, wo| clothbake::accuracy::lookup_f32(table, wi, wo),
+            |wi, wo| clothbake::measure::accuracy::lookup_f32(table, wi, wo),
             ALBEDO_SAMPLES,
         );
         let albedo = load_context.add_labeled_asset("albedo", albedo_image(&albedo));

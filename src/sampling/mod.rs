@@ -38,6 +38,10 @@
 //! The three uniform numbers: u3 picks cosine or table, then (rescaled) the node; u1 the row
 //! and then z inside it; u2 the column and then the azimuth inside it.
 
+pub mod environment;
+
+pub use environment::{EnvironmentSampler, SAMPLER_MAX_WIDTH};
+
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -188,7 +192,9 @@ impl Sampler {
     /// lookups): a small fraction of the resonant quadrature's cost, and the density
     /// follows the F that a renderer using the table shades with.
     pub fn for_table(table: &crate::table::Table) -> Self {
-        Self::build_batched(|pairs, out| crate::accuracy::lookup_batch_f64(table, pairs, out))
+        Self::build_batched(|pairs, out| {
+            crate::measure::accuracy::lookup_batch_f64(table, pairs, out)
+        })
     }
 
     /// A sampler whose cell probabilities follow `f(wi, wo)` (RGB, the patch transfer; its
@@ -466,7 +472,7 @@ pub fn albedo_curve(
 /// `shaders/sampling.wgsl`: `sampling_sample`, `sampling_pdf`, `sampling_hammersley` and the
 /// helpers they need, without a binding (the includer declares `sampling_data` and prepends
 /// [`Sampler::wgsl_constants`]).
-pub const SAMPLING_WGSL: &str = include_str!("../shaders/sampling.wgsl");
+pub const SAMPLING_WGSL: &str = include_str!("../../shaders/sampling.wgsl");
 
 /// Rows (outgoing elevations) of an [`AlbedoMap`]: row i at elevation 90°·(i/(rows − 1))^1.5,
 /// dense at the horizon where the albedo changes fastest (as the sampler's nodes), row 0 at

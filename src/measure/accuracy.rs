@@ -1,7 +1,7 @@
 //! A table's error against the direct evaluation, on the seeded direction sets of
-//! [`crate::direction_sets`].
+//! [`crate::measure::direction_sets`].
 
-use crate::direction_sets::{highlight_pairs, uniform_pairs};
+use crate::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use crate::model::{Fabric, Integration, Patch};
 use crate::table::Table;
 use glam::{DVec3, Vec3};

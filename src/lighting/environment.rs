@@ -43,11 +43,10 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
-use std::fmt;
-use std::fs::File;
-use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
+
+use super::studio::studio_radiance;
+use crate::formats::environment_map::{read_exr, read_hdr};
 
 /// Largest width or height accepted, in texels: a 16K equirectangular map.
 pub const MAX_SIDE: u32 = 16384;
@@ -56,11 +55,6 @@ pub const MAX_SIDE: u32 = 16384;
 /// size in common use. It bounds what an untrusted header can make us allocate (1.5 GiB of
 /// f32 RGB, plus a third of that for the mip chain).
 pub const MAX_TEXELS: u64 = 16384 * 8192;
-
-/// How much of a Radiance file's start may hold its header and dimension line. The image
-/// crate reads header lines without a length limit, so a file without newlines would be
-/// read whole into one line; real headers are a few hundred bytes.
-const HDR_HEADER_LIMIT: usize = 64 << 10;
 
 /// The equirectangular coordinates `(u, v)` of a world direction (see the module
 /// documentation). `direction` need not be unit length; a zero or non-finite one maps to
@@ -480,56 +474,9 @@ impl Environment {
     }
 }
 
-/// One soft box of the studio: `peak·colour·exp(sharpness·(cos α − 1))`, α the angle from
-/// `towards`.
-struct SoftBox {
-    towards: [f64; 3],
-    sharpness: f64,
-    peak: f64,
-    colour: [f64; 3],
-}
-
-/// The studio's soft boxes, as documented on [`Environment::studio`].
-const STUDIO_LIGHTS: [SoftBox; 3] = [
-    SoftBox {
-        towards: [-0.55, 0.62, 0.56],
-        sharpness: 30.0,
-        peak: 5.0,
-        colour: [1.0, 0.95, 0.88],
-    },
-    SoftBox {
-        towards: [0.82, 0.25, 0.52],
-        sharpness: 18.0,
-        peak: 1.2,
-        colour: [0.85, 0.92, 1.0],
-    },
-    SoftBox {
-        towards: [0.2, 0.5, -0.84],
-        sharpness: 45.0,
-        peak: 4.0,
-        colour: [1.0, 1.0, 1.0],
-    },
-];
-
-/// The studio's radiance from unit direction `d`.
-fn studio_radiance(d: DVec3) -> DVec3 {
-    let horizon = DVec3::new(0.30, 0.27, 0.23);
-    let zenith = DVec3::new(0.15, 0.18, 0.23);
-    let floor = DVec3::new(0.045, 0.040, 0.035);
-    let sky = horizon.lerp(zenith, d.y.max(0.0));
-    let t = ((d.y + 0.2) / 0.25).clamp(0.0, 1.0);
-    let mut radiance = floor.lerp(sky, t * t * (3.0 - 2.0 * t));
-    for light in &STUDIO_LIGHTS {
-        let cos_angle = d.dot(DVec3::from(light.towards).normalize());
-        radiance +=
-            DVec3::from(light.colour) * (light.peak * (light.sharpness * (cos_angle - 1.0)).exp());
-    }
-    radiance
-}
-
 /// Sides 1..=MAX_SIDE and at most MAX_TEXELS texels (u64 so that a header's sizes cannot
 /// overflow the product).
-fn check_size(width: u64, height: u64) -> Result<(), ContentError> {
+pub(crate) fn check_size(width: u64, height: u64) -> Result<(), ContentError> {
     let side = 1..=MAX_SIDE as u64;
     if !side.contains(&width) || !side.contains(&height) || width * height > MAX_TEXELS {
         return Err(ContentError::Size { width, height });
@@ -538,7 +485,7 @@ fn check_size(width: u64, height: u64) -> Result<(), ContentError> {
 }
 
 /// The first texel that is not finite or has a negative channel, if any.
-fn check_texels(width: u32, texels: &[[f32; 3]]) -> Result<(), ContentError> {
+pub(crate) fn check_texels(width: u32, texels: &[[f32; 3]]) -> Result<(), ContentError> {
     match texels
         .par_iter()
         .position_first(|t| t.iter().any(|v| !v.is_finite() || *v < 0.0))
@@ -549,300 +496,5 @@ fn check_texels(width: u32, texels: &[[f32; 3]]) -> Result<(), ContentError> {
             row: (index / width as usize) as u32,
             value: texels[index],
         }),
-    }
-}
-
-/// Size and texels of a Radiance RGBE file, its size checked before pixels are decoded.
-fn read_hdr(path: &Path) -> Result<(u32, u32, Vec<[f32; 3]>), EnvironmentError> {
-    use hdr_image::ImageDecoder;
-    use hdr_image::codecs::hdr::HdrDecoder;
-    let io = |source| EnvironmentError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let hdr = |source| EnvironmentError::Hdr {
-        path: path.to_path_buf(),
-        source,
-    };
-    let invalid = |message: &str| EnvironmentError::Invalid {
-        path: path.to_path_buf(),
-        message: message.to_string(),
-    };
-    let mut file = File::open(path).map_err(io)?;
-    let mut start = Vec::new();
-    (&mut file)
-        .take(HDR_HEADER_LIMIT as u64)
-        .read_to_end(&mut start)
-        .map_err(io)?;
-    // Radiance files start with "#?" and a program name: "#?RADIANCE" usually, "#?RGBE" from
-    // some writers. The decoder's strict mode knows only the first, so the signature is
-    // checked here and the decoder runs non-strict, reading it as a comment.
-    if !start.starts_with(b"#?") {
-        return Err(invalid("not a Radiance file: it does not start with '#?'"));
-    }
-    // The header ends with an empty line and the dimension line follows; both must lie in
-    // the first HDR_HEADER_LIMIT bytes (a shorter file that lacks them is left to the
-    // decoder, which reports the truncation).
-    let header_end = start.windows(2).position(|w| w == b"\n\n");
-    let complete = header_end.is_some_and(|end| start[end + 2..].contains(&b'\n'));
-    if start.len() == HDR_HEADER_LIMIT && !complete {
-        return Err(invalid(
-            "the header and dimension line do not end within the first 64 KiB",
-        ));
-    }
-    file.seek(SeekFrom::Start(0)).map_err(io)?;
-    let decoder = HdrDecoder::new_nonstrict(BufReader::new(file)).map_err(hdr)?;
-    let (width, height) = decoder.dimensions();
-    check_size(width as u64, height as u64).map_err(|problem| EnvironmentError::Content {
-        path: path.to_path_buf(),
-        problem,
-    })?;
-    // A zeroed allocation: on Linux its pages are only committed as the decoder fills them,
-    // so a truncated file claiming a large size costs little memory before it fails.
-    let mut texels = vec![[0.0f32; 3]; width as usize * height as usize];
-    decoder
-        .read_image(bytemuck::cast_slice_mut(&mut texels))
-        .map_err(hdr)?;
-    Ok((width, height, texels))
-}
-
-/// Texels being read from an EXR layer.
-struct ExrTexels {
-    width: usize,
-    texels: Vec<[f32; 3]>,
-}
-
-/// Size and texels of the first RGB layer of an OpenEXR file, the sizes of every RGB layer
-/// checked from the headers before pixels are decoded.
-fn read_exr(path: &Path) -> Result<(u32, u32, Vec<[f32; 3]>), EnvironmentError> {
-    use exr::prelude::*;
-    let invalid = |message: String| EnvironmentError::Invalid {
-        path: path.to_path_buf(),
-        message,
-    };
-    let exr_error = |source| EnvironmentError::Exr {
-        path: path.to_path_buf(),
-        source,
-    };
-    // A missing file is an I/O error naming the file, not a format error.
-    std::fs::metadata(path).map_err(|source| EnvironmentError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(exr_error)?;
-    let rgb = ["R", "G", "B"];
-    let is_rgb = |header: &&exr::meta::header::Header| {
-        rgb.iter()
-            .all(|name| header.channels.list.iter().any(|c| c.name.eq(name)))
-    };
-    // The reader below takes the first layer with R, G and B; every such layer is checked,
-    // so whichever it takes has been.
-    let mut found = false;
-    for header in meta.headers.iter().filter(is_rgb) {
-        found = true;
-        let size = header.layer_size;
-        check_size(size.width() as u64, size.height() as u64).map_err(|problem| {
-            EnvironmentError::Content {
-                path: path.to_path_buf(),
-                problem,
-            }
-        })?;
-        if header.deep {
-            return Err(invalid("its RGB layer holds deep data".into()));
-        }
-        for channel in &header.channels.list {
-            if rgb.iter().any(|name| channel.name.eq(name)) && channel.sampling != Vec2(1, 1) {
-                return Err(invalid(format!(
-                    "channel {} is subsampled: environments need every texel",
-                    channel.name
-                )));
-            }
-        }
-    }
-    if !found {
-        return Err(invalid("has no layer with R, G and B channels".into()));
-    }
-    let image = read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .rgb_channels(
-            |size: Vec2<usize>, _: &RgbChannels| ExrTexels {
-                width: size.width(),
-                texels: vec![[0.0; 3]; size.area()],
-            },
-            |pixels: &mut ExrTexels, at: Vec2<usize>, (r, g, b): (f32, f32, f32)| {
-                let index = at.y() * pixels.width + at.x();
-                if let Some(texel) = pixels.texels.get_mut(index) {
-                    *texel = [r, g, b];
-                }
-            },
-        )
-        .first_valid_layer()
-        .all_attributes()
-        .from_file(path)
-        .map_err(exr_error)?;
-    let size = image.layer_data.size;
-    let texels = image.layer_data.channel_data.pixels.texels;
-    // The sizes were checked above, so these conversions cannot truncate.
-    Ok((size.width() as u32, size.height() as u32, texels))
-}
-
-/// Where the environment comes from: the CLI's `--env` word.
-#[derive(Debug, Clone, PartialEq)]
-pub enum EnvironmentSource {
-    /// `none`: no environment lighting.
-    None,
-    /// `default`: the built-in [`Environment::studio`].
-    Default,
-    /// `uniform`: constant radiance 1, the white furnace ([`Environment::uniform`]).
-    Uniform,
-    /// Anything else: an `.hdr` or `.exr` file ([`Environment::load`]). A file named like
-    /// one of the words above is written with a directory, `./default`.
-    File(PathBuf),
-}
-
-impl EnvironmentSource {
-    /// The environment this source names; `None` for [`EnvironmentSource::None`].
-    pub fn load(&self) -> Result<Option<Environment>, EnvironmentError> {
-        Ok(match self {
-            Self::None => None,
-            Self::Default => Some(Environment::studio()),
-            Self::Uniform => Some(Environment::uniform(1.0)),
-            Self::File(path) => Some(Environment::load(path)?),
-        })
-    }
-}
-
-impl FromStr for EnvironmentSource {
-    type Err = EnvironmentError;
-
-    fn from_str(word: &str) -> Result<Self, Self::Err> {
-        Ok(match word {
-            "" => return Err(EnvironmentError::EmptySource),
-            "none" => Self::None,
-            "default" => Self::Default,
-            "uniform" => Self::Uniform,
-            path => Self::File(PathBuf::from(path)),
-        })
-    }
-}
-
-impl fmt::Display for EnvironmentSource {
-    /// The word that parses back to this source: a file named like a keyword gets `./`.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::None => f.write_str("none"),
-            Self::Default => f.write_str("default"),
-            Self::Uniform => f.write_str("uniform"),
-            Self::File(path) => {
-                let text = path.display().to_string();
-                if matches!(text.as_str(), "none" | "default" | "uniform") {
-                    write!(f, "./{text}")
-                } else {
-                    f.write_str(&text)
-                }
-            }
-        }
-    }
-}
-
-/// Widest level [`EnvironmentSampler`] is built on: a 512×256 level holds every feature a
-/// distribution needs to find (a light of a few degrees) in 0.5 MiB of CDFs.
-pub const SAMPLER_MAX_WIDTH: u32 = 512;
-
-use crate::sampling::{invert_cdf, write_cdf};
-
-/// Importance sampling of an environment map by its brightness, for multiple importance
-/// sampling with a fabric's sampler in the CPU reference of a render
-/// (`render::reference`), where a small bright light must not be left to chance.
-///
-/// Built on the first mip level at most [`SAMPLER_MAX_WIDTH`] wide: a texel is picked with
-/// probability proportional to its mean RGB radiance times its solid angle, then a direction
-/// uniform in solid angle inside it (uniform in azimuth and in cos θ), so the density per
-/// unit solid angle is the texel's probability over its solid angle
-/// `(2π/W)·(cos θ_top − cos θ_bottom)`. Data: the row CDF (H + 1 f32, 0 first, exactly 1
-/// last), then each row's column CDF (W + 1 f32 each); probabilities are differences of
-/// stored neighbours in sampling and in the pdf alike.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EnvironmentSampler {
-    width: u32,
-    height: u32,
-    data: Vec<f32>,
-}
-
-impl EnvironmentSampler {
-    /// The sampler of `map` (see the type's doc for the level it uses).
-    pub fn new(map: &Environment) -> Self {
-        let level = map
-            .levels()
-            .iter()
-            .find(|l| l.width() <= SAMPLER_MAX_WIDTH)
-            .unwrap_or_else(|| map.levels().last().expect("a map has a level"));
-        let (width, height) = (level.width() as usize, level.height() as usize);
-        let weights: Vec<f64> = level
-            .texels()
-            .iter()
-            .enumerate()
-            .map(|(i, t)| {
-                let mean = (t[0] as f64 + t[1] as f64 + t[2] as f64) / 3.0;
-                mean * level.texel_solid_angle((i / width) as u32)
-            })
-            .collect();
-        let rows: Vec<f64> = weights
-            .chunks_exact(width)
-            .map(|r| r.iter().sum())
-            .collect();
-        let mut data = vec![0.0; height + 1 + height * (width + 1)];
-        write_cdf(&rows, &mut data[..height + 1]);
-        for (row, out) in weights
-            .chunks_exact(width)
-            .zip(data[height + 1..].chunks_exact_mut(width + 1))
-        {
-            write_cdf(row, out);
-        }
-        Self {
-            width: level.width(),
-            height: level.height(),
-            data,
-        }
-    }
-
-    fn column_cdf(&self, row: usize) -> &[f32] {
-        let w = self.width as usize + 1;
-        let start = self.height as usize + 1 + row * w;
-        &self.data[start..start + w]
-    }
-
-    /// cos θ at the top edge of row `row` (θ the polar angle from +y).
-    fn cos_top(&self, row: usize) -> f64 {
-        (PI * row as f64 / self.height as f64).cos()
-    }
-
-    /// A world direction from two uniform numbers in [0, 1), and its density per unit
-    /// solid angle.
-    pub fn sample(&self, u: [f64; 2]) -> (DVec3, f64) {
-        let (row, v) = invert_cdf(&self.data[..self.height as usize + 1], u[0]);
-        let (column, w) = invert_cdf(self.column_cdf(row), u[1]);
-        let (top, bottom) = (self.cos_top(row), self.cos_top(row + 1));
-        let polar = (top + v * (bottom - top)).clamp(-1.0, 1.0).acos();
-        let direction = equirect_direction(DVec2::new(
-            (column as f64 + w) / self.width as f64,
-            polar / PI,
-        ));
-        (direction, self.pdf(direction))
-    }
-
-    /// The density per unit solid angle of [`EnvironmentSampler::sample`] at `direction`.
-    pub fn pdf(&self, direction: DVec3) -> f64 {
-        let uv = equirect_uv(direction);
-        let (w, h) = (self.width as usize, self.height as usize);
-        let column = ((uv.x.rem_euclid(1.0) * w as f64) as usize).min(w - 1);
-        let row = ((uv.y * h as f64) as usize).min(h - 1);
-        let rows = &self.data[..h + 1];
-        let columns = self.column_cdf(row);
-        let p = (rows[row + 1] as f64 - rows[row] as f64)
-            * (columns[column + 1] as f64 - columns[column] as f64);
-        let solid_angle = (TAU / w as f64) * (self.cos_top(row) - self.cos_top(row + 1));
-        p / solid_angle
     }
 }

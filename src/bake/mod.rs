@@ -4,6 +4,9 @@
 //! Each texel is a pure function of its coordinates and results are collected in order, so a
 //! table is bit-identical whatever the thread count.
 
+pub mod job;
+pub mod manifest;
+
 use crate::model::Fabric;
 use crate::table::{Layout, Plane, PlaneSpec, Table};
 use half::f16;

@@ -1,5 +1,5 @@
 //! The bake manifest, `manifest.bin` beside the tables (bincode): for each table, the hash
-//! of what it was baked from (see [`crate::table_file::expected_hash`]), how long it took
+//! of what it was baked from (see [`crate::formats::table_exr::expected_hash`]), how long it took
 //! and its measured error, so that an unchanged fabric is not baked again and `check` can
 //! report the bake time.
 

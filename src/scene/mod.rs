@@ -38,7 +38,9 @@
 //! path = "cloth.obj"                # kind = "obj" only; relative to the scene file
 //! ```
 
-use crate::environment::EnvironmentSource;
+pub mod mesh;
+
+use crate::lighting::EnvironmentSource;
 use crate::table::Layout;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -47,7 +49,7 @@ use std::path::{Path, PathBuf};
 pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 20;
 
 /// The built-in scene, `tables/scene.toml`.
-pub const BUILTIN_SCENE_TOML: &str = include_str!("../tables/scene.toml");
+pub const BUILTIN_SCENE_TOML: &str = include_str!("../../tables/scene.toml");
 
 fn check_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<(), String> {
     if value.is_finite() && (lo..=hi).contains(&value) {
@@ -191,7 +193,7 @@ pub fn default_lights() -> Vec<Light> {
     ]
 }
 
-/// Which cloth mesh to render (see [`crate::mesh`]).
+/// Which cloth mesh to render (see [`crate::scene::mesh`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MeshKind {
@@ -461,7 +463,7 @@ mod tests {
         assert!(matches!(scene.lights[1], Light::Point { .. }));
         assert_eq!(scene.mesh.kind, MeshKind::Drape);
         // Every fabric of the scene exists in the built-in fabric file.
-        let set = crate::fabric_file::FabricSet::builtin();
+        let set = crate::formats::fabric_toml::FabricSet::builtin();
         for name in &scene.fabrics {
             assert!(set.get(name).is_some(), "{name}");
         }

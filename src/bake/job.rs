@@ -2,12 +2,14 @@
 //! smallest meeting an error budget, or largest within a memory budget), skip tables that
 //! the manifest shows are up to date, bake, write atomically, record in the manifest.
 
-use crate::accuracy::{TableError, measure};
+use crate::bake::manifest::{Entry, Manifest};
 use crate::bake::{BakeError, bake, bake_rows};
-use crate::manifest::{Entry, Manifest};
+use crate::formats::fabric_toml::{FabricFileError, FabricSet};
+use crate::formats::table_exr::{TableFileError, expected_hash, read_table, write_table};
+use crate::measure::accuracy::{TableError, measure};
 use crate::model::Fabric;
+use crate::scene::Scene;
 use crate::table::{Layout, Table};
-use crate::table_file::{TableFileError, expected_hash, read_table, write_table};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -38,6 +40,69 @@ pub struct BakeJob {
     pub force: bool,
 }
 
+/// What a user asked to bake (the `bake` command's options), before [`BakeRequest::resolve`]
+/// turns it into a [`BakeJob`] by the bake policy.
+#[derive(Clone, Debug, Default)]
+pub struct BakeRequest {
+    /// Fabrics to bake by name; empty: every fabric of the fabric file.
+    pub fabrics: Vec<String>,
+    /// A scene whose fabrics, fabric file, layout and budget are used where the options
+    /// below leave them open.
+    pub scene: Option<Scene>,
+    /// A fabric file to use instead of the scene's or the built-in fabrics.
+    pub fabric_file: Option<PathBuf>,
+    pub layout: Option<Layout>,
+    pub resolution: Option<u32>,
+    /// The largest relative RMS error accepted (uniform and highlight pairs).
+    pub max_error: Option<f64>,
+    pub out: PathBuf,
+    pub force: bool,
+}
+
+/// The table layout baked when neither the options nor the scene name one.
+pub const DEFAULT_LAYOUT: Layout = Layout::THREAD_FRAME;
+
+impl BakeRequest {
+    /// The job the bake policy makes of this request:
+    /// - fabrics: the scene's (when a scene is given) or the ones named, else every fabric of
+    ///   the fabric file (the option's, else the scene's, else the built-in one);
+    /// - layout: the option's, else the scene's, else [`DEFAULT_LAYOUT`];
+    /// - resolution: a fixed `resolution` wins; else the smallest meeting `max_error` (the
+    ///   option's, else the scene budget's); else the largest within the scene's bytes per
+    ///   fabric; else the layout's default.
+    pub fn resolve(self) -> Result<BakeJob, BakeJobError> {
+        let scene = self.scene.as_ref();
+        let fabric_file = self
+            .fabric_file
+            .or_else(|| scene.and_then(|s| s.fabric_file.clone()));
+        let set = FabricSet::load_or_builtin(fabric_file.as_deref())?;
+        let names = scene.map_or(&self.fabrics, |s| &s.fabrics);
+        let fabrics = set.select(names)?;
+        let layout = self
+            .layout
+            .unwrap_or_else(|| scene.map_or(DEFAULT_LAYOUT, |s| s.layout_or(DEFAULT_LAYOUT)));
+        let budget = scene.map(|s| s.budget).unwrap_or_default();
+        let resolution = match (
+            self.resolution,
+            self.max_error.or(budget.max_error),
+            budget.max_bytes_per_fabric,
+        ) {
+            (Some(r), _, _) => ResolutionChoice::Fixed(r),
+            (None, Some(e), _) if e.is_finite() && e > 0.0 => ResolutionChoice::MaxError(e),
+            (None, Some(e), _) => return Err(BakeJobError::BadMaxError(e)),
+            (None, None, Some(bytes)) => ResolutionChoice::MaxBytes(bytes),
+            (None, None, None) => ResolutionChoice::Fixed(layout.default_resolution()),
+        };
+        Ok(BakeJob {
+            fabrics,
+            layout,
+            resolution,
+            out: self.out,
+            force: self.force,
+        })
+    }
+}
+
 /// What happened to one fabric.
 #[derive(Clone, Debug)]
 pub enum Outcome {
@@ -59,6 +124,10 @@ pub enum BakeJobError {
     Bake(#[from] BakeError),
     #[error(transparent)]
     File(#[from] TableFileError),
+    #[error(transparent)]
+    Fabrics(#[from] FabricFileError),
+    #[error("--max-error must be a positive number, got {0}")]
+    BadMaxError(f64),
     #[error("cannot write to {path}: {source}")]
     Io {
         path: PathBuf,

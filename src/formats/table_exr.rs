@@ -452,7 +452,7 @@ pub fn read_table_bytes(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fabric_file::FabricSet;
+    use crate::formats::fabric_toml::FabricSet;
 
     /// Tables of an earlier baker stay readable (their recorded hash still checks out) but
     /// no longer match what this baker would write, so `bake` bakes them again.

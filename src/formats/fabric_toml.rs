@@ -7,7 +7,7 @@ use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// The six measured fabrics of MODEL.md, as shipped in `tables/fabrics.toml`.
-pub const BUILTIN_FABRICS_TOML: &str = include_str!("../tables/fabrics.toml");
+pub const BUILTIN_FABRICS_TOML: &str = include_str!("../../tables/fabrics.toml");
 
 /// Largest fabric file read: a fabric with two 256-point curves is about 10 KiB of TOML, so
 /// 4 MiB holds hundreds of fabrics while bounding what parsing can allocate.
@@ -36,6 +36,8 @@ pub enum FabricFileError {
     Duplicate { origin: String, name: String },
     #[error("fabric file {origin}: holds no [[fabric]] table")]
     Empty { origin: String },
+    #[error("no fabric named '{name}'; known fabrics: {known}")]
+    Unknown { name: String, known: String },
 }
 
 #[derive(Deserialize)]
@@ -119,14 +121,25 @@ impl FabricSet {
     }
 
     /// The fabric called `name`, or an error listing the names there are.
-    pub fn require(&self, name: &str) -> Result<&Fabric, String> {
+    pub fn require(&self, name: &str) -> Result<&Fabric, FabricFileError> {
         self.get(name).ok_or_else(|| {
             let names: Vec<&str> = self.fabrics.iter().map(|f| f.name.as_str()).collect();
-            format!(
-                "no fabric named '{name}'; known fabrics: {}",
-                names.join(", ")
-            )
+            FabricFileError::Unknown {
+                name: name.to_string(),
+                known: names.join(", "),
+            }
         })
+    }
+
+    /// The fabrics called `names` in that order, or every fabric when `names` is empty.
+    pub fn select(&self, names: &[String]) -> Result<Vec<Fabric>, FabricFileError> {
+        if names.is_empty() {
+            return Ok(self.fabrics.clone());
+        }
+        names
+            .iter()
+            .map(|name| self.require(name).cloned())
+            .collect()
     }
 }
 
