@@ -16,6 +16,7 @@
 
 mod app;
 pub mod controls;
+mod surface;
 mod timer;
 
 use crate::formats::fabric_toml::FabricSet;
