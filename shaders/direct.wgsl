@@ -1,4 +1,4 @@
-// Direct evaluation of the patch transfer F(wi, wo) of MODEL.md in f32, paper mode: the
+// Direct evaluation of the patch transfer F(wi, wo) of docs/model.md in f32, paper mode: the
 // curve mean ⟨x⟩_j of each thread is the weighted sum over the tangent nodes that the CPU's
 // `curve_pieces(thread, options, Integration::Paper(N))` produces (uploaded by
 // src/gpu/direct.rs as (cos α, sin α, weight)), each sample evaluated by sample.wgsl (which

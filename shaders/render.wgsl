@@ -1,5 +1,5 @@
 // The cloth render pass (src/render/mod.rs): appended to a GpuBrdf's WGSL, which defines
-// `cloth_brdf(wi, wo)` = F(wi, wo) (MODEL.md) in the local cloth frame with its bindings in
+// `cloth_brdf(wi, wo)` = F(wi, wo) (docs/model.md) in the local cloth frame with its bindings in
 // @group(0), and to the fabric sampler's functions (shaders/sampling.wgsl). This file's own
 // resources are in @group(1) (the frame) and @group(2) (the environment light); its names
 // avoid the `cloth_` and `sampling_` prefixes of those modules.
@@ -7,7 +7,7 @@
 // Per pixel: the thread frame (t = thread 1 along u, b = n × t, n) from the interpolated
 // vertex frame, re-orthonormalised; wi (to each light) and wo (to the eye) in that frame;
 // radiance L = Σ_lights E·F(wi, wo), with E = colour·irradiance for a directional light and
-// colour·I/d² for a point light (MODEL.md: a distant light of perpendicular irradiance E
+// colour·I/d² for a point light (docs/model.md: a distant light of perpendicular irradiance E
 // gives L_o = E·F; F already holds every cosine), plus the environment light
 // ∫ L_env(wi) F(wi, wo) dwi by filtered importance sampling (`render_environment_light`).
 // No shadows.
@@ -15,7 +15,7 @@
 // Two-sided cloth: the side facing the viewer is shaded, judged by the interpolated normal
 // (n is flipped when n·wo < 0, so wo.z ≥ 0 always; t is kept, so the flipped frame is still
 // right-handed with y = n × t). Lights on the other side of the cloth give nothing (wi.z ≤ 0:
-// MODEL.md's one-sided patch).
+// the model's one-sided patch).
 
 // One light: vector.w = 0: directional, vector.xyz the unit direction towards it;
 // vector.w = 1: point, vector.xyz its position. power.rgb = colour·irradiance (directional)

@@ -1,5 +1,5 @@
 // The resonant quadrature (`Integration::Resonant`, src/model/resonant.rs) in f32: the
-// curve means ⟨s⟩_j, ⟨P⟩_j of MODEL.md from Gauss–Legendre nodes placed per pair on each
+// curve means ⟨s⟩_j, ⟨P⟩_j of docs/model.md from Gauss–Legendre nodes placed per pair on each
 // lobe, in the Gaussian-CDF variable t = Φ(z), plus base nodes in α. Mirrors
 // `ResonantRule::means`/`segment` (same node placement, same thresholds) and
 // `ThreadModel::sample`/`pair_frame` of src/model/patch.rs.

@@ -166,7 +166,7 @@ fn sampling_hammersley(k: u32, count: u32) -> vec3<f32> {
 // of `count` draws of density `pdf` from a map whose level-0 texel spans `texel` steradians:
 // the level whose texels cover the draw's share of the sphere, 1/(count·pdf), i.e.
 // ½·log2(1/(count·pdf·texel)); the caller clamps it to the map's levels. Without the
-// original's +1: measured against the CPU reference (README, "Environment light"), +1 blurs
+// original's +1: measured against the CPU reference (docs/sampling.md#what-was-tried), +1 blurs
 // cloth's narrow cone-shaped lobes too much, and −1 or −2 alias.
 fn sampling_lod(count: u32, pdf: f32, texel: f32) -> f32 {
     return 0.5 * log2(1.0 / (f32(count) * pdf * texel));

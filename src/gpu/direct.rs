@@ -1,4 +1,4 @@
-//! [`GpuDirect`]: the model of MODEL.md evaluated in the shader (`shaders/direct.wgsl`) in
+//! [`GpuDirect`]: the model of docs/model.md evaluated in the shader (`shaders/direct.wgsl`) in
 //! f32, in paper mode: N stratified tangent samples per thread, the same nodes and weights as
 //! the CPU's `Patch::new(fabric, Integration::Paper(N))`.
 

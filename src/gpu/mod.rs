@@ -1,5 +1,5 @@
 //! The GPU runtime core: a wgpu device (headless or for a window surface), and evaluations of
-//! the patch transfer F(wi, wo) (MODEL.md) on the GPU behind one interface, [`GpuBrdf`]: a
+//! the patch transfer F(wi, wo) (docs/model.md#the-patch-transfer-f) on the GPU behind one interface, [`GpuBrdf`]: a
 //! WGSL module defining `cloth_brdf(wi, wo)` plus the bind group it reads.
 //!
 //! - [`GpuContext`]: device and queue, the adapter's description, GPU timestamps if offered.
@@ -99,7 +99,7 @@ impl AdapterDescription {
 
     /// Whether the adapter is a software rasteriser (device type `Cpu`: lavapipe, WARP),
     /// which may run a branch's code in every pixel whether or not any pixel takes it
-    /// (lavapipe does: README, "Lookup against the direct and resonant shaders").
+    /// (lavapipe does: docs/performance.md#split_frames-horizon-band-on-lavapipe).
     pub fn is_software(&self) -> bool {
         self.device_type == format!("{:?}", wgpu::DeviceType::Cpu)
     }
@@ -214,7 +214,7 @@ impl GpuContext {
     }
 }
 
-/// A GPU evaluation of the patch transfer F(wi, wo) (MODEL.md), as a WGSL module plus its
+/// A GPU evaluation of the patch transfer F(wi, wo) (docs/model.md#the-patch-transfer-f), as a WGSL module plus its
 /// resources. A shader using it concatenates [`GpuBrdf::wgsl`] with its own source and binds
 /// [`GpuBrdf::bind_group`] at group 0 (its own resources in other groups).
 ///

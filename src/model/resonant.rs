@@ -1,4 +1,4 @@
-//! The resonant quadrature: the curve means `⟨s⟩_j`, `⟨P⟩_j` of MODEL.md from a few dozen
+//! The resonant quadrature: the curve means `⟨s⟩_j`, `⟨P⟩_j` of docs/model.md#coverage-and-normalisation from a few dozen
 //! tangent samples per light, placed where each term of the integrand lives.
 //!
 //! Over a curve segment the density of tangent offsets α is constant, and the integrand

@@ -264,7 +264,7 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             let start = Instant::now();
             // Under an environment light the reference evaluates F at hundreds of directions
             // per pixel: the resonant quadrature (within 0.02–0.11% of the direct rule,
-            // README) keeps that to seconds.
+            // report/REPORT.md) keeps that to seconds.
             let (patch, evaluation) = match &environment {
                 None => (Patch::new(fabric, Integration::Direct), "direct evaluation"),
                 Some(_) => (

@@ -1,5 +1,5 @@
 //! Importance sampling of a fabric: directions `wi` drawn with a density close to
-//! `F(wi, wo)` (MODEL.md) for a given `wo`, with that density `pdf(wi | wo)` (per unit solid
+//! `F(wi, wo)` (docs/model.md#the-patch-transfer-f) for a given `wo`, with that density `pdf(wi | wo)` (per unit solid
 //! angle) evaluable for any pair, on the CPU ([`Sampler`]) and in WGSL
 //! (`shaders/sampling.wgsl`, the same layout, see [`Sampler::wgsl_constants`]).
 //!
@@ -64,7 +64,7 @@ pub const GRAZING_NODE_DEG: f64 = 0.1;
 /// The probability of drawing from the cosine density instead of the table.
 pub const COSINE_SHARE: f64 = 0.1;
 /// Resonant node counts of the evaluation the built-in sampler is built from: the density
-/// only has to follow F's shape (README: 3/2/2 is within 0.17–0.96% of the direct rule).
+/// only has to follow F's shape (report/REPORT.md: 3/2/2 is within 0.17–0.96% of the direct rule).
 pub const BUILD_NODES: ResonantNodes = ResonantNodes {
     surface: 3,
     volume: 2,
@@ -485,7 +485,7 @@ pub const ALBEDO_MAP_AZIMUTHS: usize = 65;
 
 /// The directional albedo `∫ F(wi, wo) dwi` (RGB) on a grid of outgoing directions in the
 /// cloth frame: what a uniform ambient radiance `L_a` reflects, `L_o(wo) = L_a · albedo(wo)`
-/// (MODEL.md's F holds every cosine). Row-major, [`ALBEDO_MAP_AZIMUTHS`] columns of azimuth
+/// (the model's F holds every cosine). Row-major, [`ALBEDO_MAP_AZIMUTHS`] columns of azimuth
 /// from thread 1 (x) towards thread 2 (y) per row of elevation ([`ALBEDO_MAP_ELEVATIONS`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct AlbedoMap {

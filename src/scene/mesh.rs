@@ -1,5 +1,5 @@
 //! Cloth meshes with a thread frame per vertex: position, normal and tangent, where the
-//! tangent is the direction of thread 1 (MODEL.md's x, the mesh's u direction) and thread 2
+//! tangent is the direction of thread 1 (the model's x, docs/model.md#frames-and-directions; the mesh's u direction) and thread 2
 //! runs along y = n × t. Procedural sheets (`drape`, `curtain`, `plane`) or a user's OBJ
 //! file with UVs.
 //!
@@ -27,7 +27,7 @@ pub const MAX_OBJ_FILE_BYTES: u64 = 512 << 20;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
     pub position: [f32; 3],
-    /// Unit surface normal (MODEL.md's z).
+    /// Unit surface normal (the model's z).
     pub normal: [f32; 3],
     /// Unit tangent orthogonal to the normal: thread 1, the mesh's u direction (x).
     pub tangent: [f32; 3],

@@ -152,7 +152,7 @@ impl OrbitCamera {
     }
 }
 
-/// A light. Radiance leaving the cloth is `Σ E·color·F(wi, wo)` over the lights (MODEL.md:
+/// A light. Radiance leaving the cloth is `Σ E·color·F(wi, wo)` over the lights (docs/model.md#the-patch-transfer-f:
 /// a distant light of perpendicular irradiance E gives `L_o = E·F`); there are no shadows.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
@@ -209,8 +209,8 @@ pub enum MeshKind {
 }
 
 /// Environment samples per pixel of the default scene: 4–7% from the CPU reference under
-/// the studio environment at a quarter of K = 256's cost (2–3%; README, "Environment
-/// light", has the measured front).
+/// the studio environment at a quarter of K = 256's cost (2–3%; docs/sampling.md#measured
+/// has the measured front).
 pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 64;
 /// Most environment samples per pixel.
 pub const MAX_ENVIRONMENT_SAMPLES: u32 = 1024;

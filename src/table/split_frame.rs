@@ -62,7 +62,7 @@
 //! in the horizon band, the resonant kernel instead of the sloped tables' fetches. A GPU
 //! skips that branch where no lane of a warp takes it; a software rasteriser (lavapipe)
 //! runs the kernel, masked, in every pixel, which made split_frame's frame 3–8× thread_frame's
-//! there (measured in the README, "Lookup against the direct and resonant shaders"). So the
+//! there (measured in docs/performance.md#split_frames-horizon-band-on-lavapipe). So the
 //! band can be left out of the shader (`LookupShaderOptions::horizon_band`, which
 //! `GpuTable::new` does on a software adapter): the band's pairs then read the sloped tables
 //! like the others (the tables hold the function continued past the horizon), the shader

@@ -1,7 +1,7 @@
 //! `clothbake view`: an interactive window (winit + a wgpu surface) showing the scene's cloth
 //! shaded by table lookup ([`crate::gpu::GpuTable`]) or by the model evaluated in the shader
 //! ([`crate::gpu::GpuDirect`], paper mode with N samples per thread), so that the two can be
-//! compared live. Radiance is `Σ E·F(wi, wo)` over the scene's lights (MODEL.md), tone mapped
+//! compared live. Radiance is `Σ E·F(wi, wo)` over the scene's lights (docs/model.md#the-patch-transfer-f), tone mapped
 //! as `render` does.
 //!
 //! - [`controls`]: keys, mouse and frame statistics, without window or GPU.

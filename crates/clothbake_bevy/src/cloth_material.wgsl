@@ -1,7 +1,7 @@
 // The fragment shader of `ClothMaterial` (src/material.rs): Bevy's forward pass, shading cloth
 // by a clothbake table. `ClothTable`'s loader (src/table_asset.rs) makes one shader per table:
 // this file with the table's specialised lookup (`clothbake::table::wgsl::lookup_wgsl_in_group`:
-// `cloth_brdf(wi, wo)` = F(wi, wo) of MODEL.md, its textures and sampler in the material's
+// `cloth_brdf(wi, wo)` = F(wi, wo) of docs/model.md, its textures and sampler in the material's
 // bind group) put in place of the marker line below.
 //
 // Per fragment, as `clothbake render` (shaders/render.wgsl): the thread frame (t = thread 1
