@@ -7,7 +7,7 @@
 //! |---|---|
 //! | `clothbake_version` | the clothbake version that baked it |
 //! | `baker_revision` | [`BAKER_REVISION`] of the baker (absent: 1) |
-//! | `layout` | layout name (`grid4d`, `thread_frame`) |
+//! | `layout` | a registered layout's name (`thread_frame`, `split_frame`, `grid4d`) |
 //! | `resolution` | layout resolution |
 //! | `integration` | the integration rule of every texel |
 //! | `[[fabric]]` | the fabric, in the fabric-file schema (options included) |
