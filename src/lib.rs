@@ -10,6 +10,8 @@
 //!   command's choice of layout and resolution, its manifest and files.
 //! - [`formats`]: files read and written (table EXR, fabric TOML, environment maps, JSON
 //!   lines), all read as untrusted input.
+//! - [`evaluator`]: the ways F is evaluated (direct, paper, resonant, a table), one unit each
+//!   behind one interface and registry, with one spelling on every command.
 //! - [`measure`]: a table's error against the direct evaluation, on seeded direction pairs.
 //! - [`scene`]: what a scene shows and needs baked (fabrics, camera, lights, mesh, budget).
 //! - [`lighting`]: distant environment light: maps, their mip chain, the built-in studio.
@@ -22,6 +24,7 @@
 //! - [`viewer`]: `clothbake view`, the interactive window (winit).
 
 pub mod bake;
+pub mod evaluator;
 pub mod formats;
 #[cfg(feature = "runtime")]
 pub mod gpu;

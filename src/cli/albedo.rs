@@ -1,7 +1,8 @@
 //! `clothbake albedo`: each fabric's directional albedo over outgoing elevation.
 
 use super::CommandResult;
-use super::options::brdf_of;
+use super::options::evaluation_of;
+use clothbake::evaluator::EvaluatorSpec;
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::formats::table_exr::read_table;
 use clothbake::model::Fabric;
@@ -17,8 +18,11 @@ pub struct Args {
     #[arg(long)]
     fabrics: Option<PathBuf>,
     /// F from this table's lookup (its own fabric) instead of the direct evaluation.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "evaluator")]
     table: Option<PathBuf>,
+    /// How F is evaluated (direct, paper[:N], resonant[:S/V/B], table[:PATH], constant).
+    #[arg(long)]
+    evaluator: Option<EvaluatorSpec>,
     /// Importance samples per outgoing direction.
     #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(16..=1_000_000))]
     samples: u32,
@@ -32,8 +36,12 @@ pub fn run(args: Args) -> CommandResult {
     };
     let samples = args.samples as usize;
     for fabric in &chosen {
-        let f = brdf_of(fabric, args.table.as_deref())?;
-        let rows = albedo_curve(&Sampler::for_fabric(fabric), f, samples);
+        let f = evaluation_of(fabric, args.evaluator.as_ref(), args.table.as_deref())?;
+        let rows = albedo_curve(
+            &Sampler::for_fabric(fabric),
+            |wi, wo| f.eval(wi, wo),
+            samples,
+        );
         print!("{}", describe_albedo(&fabric.name, &rows, samples));
     }
     Ok(())

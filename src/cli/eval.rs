@@ -2,21 +2,31 @@
 
 use super::CommandResult;
 use super::options::{NodeArgs, UsageError};
+use clothbake::evaluator::direct::Direct;
+use clothbake::evaluator::paper::Paper;
+use clothbake::evaluator::resonant::Resonant;
+use clothbake::evaluator::{EvaluationContext, Evaluator, EvaluatorSpec};
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::formats::json_lines::{EvalOutput, eval_stream};
 use clothbake::formats::table_exr::read_table;
 use clothbake::measure::accuracy::lookup_f32;
-use clothbake::model::{Integration, Patch};
+use clothbake::model::curve::DEFAULT_PAPER_SAMPLES;
 use clothbake::sampling::Sampler;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 #[derive(clap::Args)]
 pub struct Args {
     /// Fabric name.
     #[arg(long)]
     fabric: String,
-    /// How F is evaluated: the converged direct rule (default unless --samples is given),
-    /// paper mode (--samples N strata per thread), or the resonant quadrature.
+    /// How F is evaluated, in the spelling every command shares: direct (the default),
+    /// paper[:N], resonant[:S/V/B], table[:PATH] (or a path ending in .exr), constant.
+    #[arg(long, conflicts_with_all = ["integration", "samples", "surface_nodes", "volume_nodes", "base_nodes"])]
+    evaluator: Option<EvaluatorSpec>,
+    /// The older spelling of --evaluator: the converged direct rule (default unless
+    /// --samples is given), paper mode (--samples N strata per thread), or the resonant
+    /// quadrature (--surface-nodes, --volume-nodes, --base-nodes).
     #[arg(long, value_enum)]
     integration: Option<IntegrationArg>,
     /// Paper mode: N stratified samples per thread (alone, it selects paper mode).
@@ -46,8 +56,9 @@ enum IntegrationArg {
     Resonant,
 }
 
-/// The integration rule that the options select; names the option that does not fit.
-fn integration_rule(args: &Args) -> Result<Integration, UsageError> {
+/// The evaluator that `--integration`, `--samples` and the node options select; names the
+/// option that does not fit.
+fn evaluator_of_rule_options(args: &Args) -> Result<Arc<dyn Evaluator>, UsageError> {
     let samples = args.samples;
     let integration = args.integration.unwrap_or(match samples {
         Some(_) => IntegrationArg::Paper,
@@ -64,26 +75,29 @@ fn integration_rule(args: &Args) -> Result<Integration, UsageError> {
     };
     match integration {
         IntegrationArg::Direct if samples.is_some() => Err(misplaced("direct")),
-        IntegrationArg::Direct => Ok(Integration::Direct),
-        IntegrationArg::Paper => Ok(Integration::Paper(
-            samples.unwrap_or(clothbake::model::curve::DEFAULT_PAPER_SAMPLES),
-        )),
+        IntegrationArg::Direct => Ok(Arc::new(Direct)),
+        IntegrationArg::Paper => Ok(Arc::new(Paper {
+            samples: samples.unwrap_or(DEFAULT_PAPER_SAMPLES),
+        })),
         IntegrationArg::Resonant if samples.is_some() => Err(misplaced("resonant")),
-        IntegrationArg::Resonant => Ok(Integration::Resonant(nodes)),
+        IntegrationArg::Resonant => Ok(Arc::new(Resonant { nodes })),
     }
 }
 
 pub fn run(args: Args) -> CommandResult {
-    let integration = integration_rule(&args)?;
+    let evaluator = match &args.evaluator {
+        Some(spec) => spec.0.clone(),
+        None => evaluator_of_rule_options(&args)?,
+    };
     let set = FabricSet::load_or_builtin(args.fabrics.as_deref())?;
     let fabric = set.require(&args.fabric)?;
-    let patch = Patch::new(fabric, integration);
+    let evaluation = evaluator.prepare(fabric, &EvaluationContext::default())?;
     let table = args.table.map(|path| read_table(&path)).transpose()?;
     let sampler = args.pdf.then(|| Sampler::for_fabric(fabric));
     let stdin = std::io::BufReader::new(std::io::stdin());
     let stdout = std::io::stdout().lock();
     eval_stream(stdin, stdout, |wi, wo| EvalOutput {
-        f: patch.eval(wi, wo).to_array(),
+        f: evaluation.eval(wi, wo).to_array(),
         table: table
             .as_ref()
             .map(|t| lookup_f32(&t.table, wi, wo).to_array()),

@@ -1,11 +1,14 @@
 //! Options and helpers shared by several commands.
 
-use clothbake::formats::table_exr::read_table;
-use clothbake::measure::accuracy::lookup_f32;
-use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
+use clothbake::evaluator::direct::Direct;
+use clothbake::evaluator::table::TableLookup;
+use clothbake::evaluator::{
+    EvaluationContext, Evaluator, EvaluatorError, EvaluatorSpec, FabricEvaluator,
+};
+use clothbake::model::{Fabric, ResonantNodes};
 use clothbake::table::Layout;
-use glam::DVec3;
 use std::path::Path;
+use std::sync::Arc;
 
 /// Options that do not fit together, named as the user wrote them.
 #[derive(Debug, thiserror::Error)]
@@ -64,21 +67,21 @@ pub fn parse_layout(name: &str) -> Result<Layout, String> {
     })
 }
 
-/// F(wi, wo) by the direct evaluation of `fabric`, or by the f32 lookup of the table at
-/// `table` when given.
-pub type Brdf = Box<dyn Fn(DVec3, DVec3) -> DVec3 + Sync>;
-
-pub fn brdf_of(fabric: &Fabric, table: Option<&Path>) -> Result<Brdf, Box<dyn std::error::Error>> {
-    Ok(match table {
-        Some(path) => {
-            let table = read_table(path)?.table;
-            Box::new(move |wi, wo| lookup_f32(&table, wi, wo))
-        }
-        None => {
-            let patch = Patch::new(fabric, Integration::Direct);
-            Box::new(move |wi, wo| patch.eval(wi, wo))
-        }
-    })
+/// The evaluation of `fabric` that `--evaluator` names (`--table PATH` is
+/// `--evaluator table:PATH`), by default the converged direct rule.
+pub fn evaluation_of(
+    fabric: &Fabric,
+    evaluator: Option<&EvaluatorSpec>,
+    table: Option<&Path>,
+) -> Result<Box<dyn FabricEvaluator>, EvaluatorError> {
+    let evaluator: Arc<dyn Evaluator> = match (evaluator, table) {
+        (Some(spec), _) => spec.0.clone(),
+        (None, Some(path)) => Arc::new(TableLookup {
+            path: Some(path.to_path_buf()),
+        }),
+        (None, None) => Arc::new(Direct),
+    };
+    evaluator.prepare(fabric, &EvaluationContext::default())
 }
 
 #[cfg(feature = "runtime")]

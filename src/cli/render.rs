@@ -2,9 +2,15 @@
 
 use super::CommandResult;
 use super::options::{LookupArgs, NodeArgs, SceneArgs, UsageError};
+use clothbake::evaluator::constant::Constant;
+use clothbake::evaluator::paper::Paper;
+use clothbake::evaluator::resonant::Resonant;
+use clothbake::evaluator::table::TableLookup;
+use clothbake::evaluator::{Evaluator, EvaluatorSpec, GpuOptions};
 use clothbake::gpu::direct::DEFAULT_SAMPLES;
-use clothbake::render::job::{self, RenderJob, Shader};
+use clothbake::render::job::{self, RenderJob};
 use std::path::PathBuf;
+use std::sync::Arc;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -23,10 +29,15 @@ pub struct Args {
     /// Timed frames (after one warm-up frame); the median is printed.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     frames: u32,
-    /// How the shader evaluates F.
+    /// How the shader evaluates F, in the spelling every command shares: table[:PATH] (the
+    /// default: each fabric's table in --tables), paper[:N], resonant[:S/V/B], constant.
+    #[arg(long, conflicts_with_all = ["shader", "samples", "surface_nodes", "volume_nodes", "base_nodes"])]
+    evaluator: Option<EvaluatorSpec>,
+    /// The older spelling of --evaluator: lookup (table), paper or direct (both paper mode
+    /// with --samples per thread), resonant (with the node options), constant.
     #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
     shader: ShaderArg,
-    /// Tangent samples per thread of --shader direct (default 32).
+    /// Tangent samples per thread of --shader paper (default 32).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     samples: Option<u32>,
     #[command(flatten)]
@@ -51,7 +62,9 @@ pub struct Args {
 enum ShaderArg {
     /// Table lookup from the baked tables.
     Lookup,
-    /// The model itself in the shader (paper mode, --samples per thread).
+    /// The model itself in the shader, paper mode (--samples per thread).
+    Paper,
+    /// The same as paper: the name this shader had before the evaluators had one spelling.
     Direct,
     /// The resonant quadrature in the shader (--surface-nodes, --volume-nodes, --base-nodes).
     Resonant,
@@ -59,20 +72,30 @@ enum ShaderArg {
     Constant,
 }
 
-pub fn run(args: Args) -> CommandResult {
+/// The evaluator that `--shader`, `--samples` and the node options select.
+fn evaluator_of_shader_options(args: &Args) -> Result<Arc<dyn Evaluator>, UsageError> {
     let nodes = args
         .nodes
         .nodes(args.shader == ShaderArg::Resonant, "--shader resonant")?;
-    let shader = match (args.shader, args.samples) {
-        (ShaderArg::Direct, n) => Shader::Direct {
+    Ok(match (args.shader, args.samples) {
+        (ShaderArg::Paper | ShaderArg::Direct, n) => Arc::new(Paper {
             samples: n.unwrap_or(DEFAULT_SAMPLES),
-        },
+        }),
         (_, Some(_)) => {
-            return Err(UsageError("--samples applies to --shader direct only".into()).into());
+            return Err(UsageError(
+                "--samples applies to --shader paper (or direct) only".into(),
+            ));
         }
-        (ShaderArg::Resonant, None) => Shader::Resonant { nodes },
-        (ShaderArg::Lookup, None) => Shader::Lookup,
-        (ShaderArg::Constant, None) => Shader::Constant,
+        (ShaderArg::Resonant, None) => Arc::new(Resonant { nodes }),
+        (ShaderArg::Lookup, None) => Arc::new(TableLookup { path: None }),
+        (ShaderArg::Constant, None) => Arc::new(Constant),
+    })
+}
+
+pub fn run(args: Args) -> CommandResult {
+    let evaluator = match &args.evaluator {
+        Some(spec) => spec.0.clone(),
+        None => evaluator_of_shader_options(&args)?,
     };
     let job = RenderJob {
         scene: args.scene.load()?,
@@ -82,8 +105,10 @@ pub fn run(args: Args) -> CommandResult {
         width: args.width,
         height: args.height,
         frames: args.frames,
-        shader,
-        horizon_band: args.lookup.horizon_band(),
+        evaluator,
+        gpu_options: GpuOptions {
+            horizon_band: args.lookup.horizon_band(),
+        },
         reference: args.reference,
         reference_samples: args.reference_samples,
         linear: args.linear,

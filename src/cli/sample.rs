@@ -1,7 +1,8 @@
 //! `clothbake sample`: importance samples of F for JSON lines of (wo, u).
 
 use super::CommandResult;
-use super::options::brdf_of;
+use super::options::evaluation_of;
+use clothbake::evaluator::EvaluatorSpec;
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::formats::json_lines::{SampleOutput, sample_stream};
 use clothbake::sampling::Sampler;
@@ -15,15 +16,19 @@ pub struct Args {
     /// Fabric file (TOML) to use instead of the built-in fabrics.
     #[arg(long)]
     fabrics: Option<PathBuf>,
-    /// F from this table's lookup instead of the direct evaluation.
-    #[arg(long)]
+    /// F from this table's lookup instead of the direct evaluation (`--evaluator table:PATH`).
+    #[arg(long, conflicts_with = "evaluator")]
     table: Option<PathBuf>,
+    /// How F is evaluated (direct, paper[:N], resonant[:S/V/B], table[:PATH], constant);
+    /// the directions are drawn by the fabric's sampler whatever F is.
+    #[arg(long)]
+    evaluator: Option<EvaluatorSpec>,
 }
 
 pub fn run(args: Args) -> CommandResult {
     let set = FabricSet::load_or_builtin(args.fabrics.as_deref())?;
     let fabric = set.require(&args.fabric)?;
-    let f = brdf_of(fabric, args.table.as_deref())?;
+    let f = evaluation_of(fabric, args.evaluator.as_ref(), args.table.as_deref())?;
     let sampler = Sampler::for_fabric(fabric);
     let stdin = std::io::BufReader::new(std::io::stdin());
     let stdout = std::io::stdout().lock();
@@ -31,7 +36,7 @@ pub fn run(args: Args) -> CommandResult {
         Some(s) => SampleOutput {
             wi: Some(s.wi.to_array()),
             pdf: s.pdf,
-            weight: (f(s.wi, wo) / s.pdf).to_array(),
+            weight: (f.eval(s.wi, wo) / s.pdf).to_array(),
         },
         None => SampleOutput::REJECTED,
     })?;

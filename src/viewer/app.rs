@@ -9,11 +9,11 @@ use super::controls::{
 use super::surface::{Graphics, depth_view, os_message, surface_config};
 use super::timer::GpuTimer;
 use super::{Shading, ViewError, ViewSummary};
+use crate::evaluator::table::load_fabric_table;
 use crate::formats::table_exr::TableFile;
 use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
 use crate::lighting::Environment;
 use crate::model::{Fabric, ResonantNodes};
-use crate::render::job::load_table;
 use crate::render::{Camera, FrameSettings, FrameTargets, GpuEnvironment, LightSource, Renderer};
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -234,7 +234,8 @@ impl App {
         };
         let mut file = None;
         if g.fabrics[index].is_none() {
-            let loaded = load_table(&self.setup.tables, &self.setup.fabrics[index])?;
+            let loaded = load_fabric_table(&self.setup.tables, &self.setup.fabrics[index])
+                .map_err(|e| e.to_string())?;
             let lookup =
                 GpuTable::with_horizon_band(&g.gpu, &loaded.table, self.setup.horizon_band)
                     .map_err(|e| e.to_string())?;
@@ -254,7 +255,8 @@ impl App {
                 // The first table stays with the App until its sampler is built here.
                 let file = match file.take().or_else(|| self.first_table.take()) {
                     Some(file) if file.table.fabric == self.setup.fabrics[index] => file,
-                    _ => load_table(&self.setup.tables, &self.setup.fabrics[index])?,
+                    _ => load_fabric_table(&self.setup.tables, &self.setup.fabrics[index])
+                        .map_err(|e| e.to_string())?,
                 };
                 let sampler = Sampler::for_table(&file.table);
                 f.sampler = Some(GpuSampler::new(&g.gpu, &sampler).map_err(|e| e.to_string())?);

@@ -19,9 +19,9 @@ pub mod controls;
 mod surface;
 mod timer;
 
+use crate::evaluator::table::load_fabric_table;
 use crate::formats::fabric_toml::FabricSet;
 use crate::model::Fabric;
-use crate::render::job::load_table;
 use crate::scene::mesh::Mesh;
 use crate::scene::{MeshKind, MeshSpec, OrbitCamera, Scene};
 use std::path::{Path, PathBuf};
@@ -152,7 +152,8 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
         .map_err(|e| ViewError::Setup(e.to_string()))?;
     // The first table before any window: a missing or stale table is reported at once (the
     // others when selected).
-    let table = load_table(&options.tables, &fabrics[first]).map_err(ViewError::Setup)?;
+    let table = load_fabric_table(&options.tables, &fabrics[first])
+        .map_err(|e| ViewError::Setup(e.to_string()))?;
     let missing: Vec<&str> = names
         .iter()
         .filter(|n| !table_path(&options.tables, n).is_file())
