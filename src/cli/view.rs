@@ -15,12 +15,12 @@ pub struct Args {
     /// Draw N frames, print the median frame time and exit.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
     frames: Option<u32>,
-    /// Paper-mode samples per thread of the direct shader (+/- change it).
+    /// Samples per thread of the paper-mode shader (+/- change it).
     #[arg(long, default_value_t = DEFAULT_SAMPLES,
           value_parser = clap::value_parser!(u32).range(1..=1024))]
     samples: u32,
-    /// Shading at start: table lookup, the model in the shader (key D toggles), or the
-    /// resonant quadrature in the shader (key G toggles).
+    /// Shading at start: table lookup, the model in the shader in paper mode (key D
+    /// toggles), or the resonant quadrature in the shader (key G toggles).
     #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
     shader: ShaderArg,
     #[command(flatten)]
@@ -29,8 +29,13 @@ pub struct Args {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 enum ShaderArg {
+    /// The fabric's baked table.
     Lookup,
+    /// The model in the shader, paper mode (--samples per thread).
+    Paper,
+    /// The same as paper: this shader's name before the evaluators had one spelling.
     Direct,
+    /// The resonant quadrature in the shader.
     Resonant,
 }
 
@@ -44,7 +49,7 @@ pub fn run(args: Args) -> CommandResult {
         samples: args.samples,
         shading: match args.shader {
             ShaderArg::Lookup => Shading::Lookup,
-            ShaderArg::Direct => Shading::Direct,
+            ShaderArg::Paper | ShaderArg::Direct => Shading::Paper,
             ShaderArg::Resonant => Shading::Resonant,
         },
         horizon_band: args.lookup.horizon_band(),

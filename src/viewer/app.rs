@@ -6,16 +6,17 @@ use super::controls::{
     self, Action, FrameStats, LightControl, OrbitControl, action_for_key, cycle_index,
     pixels_to_lines, step_samples,
 };
+use super::shading::FabricGpu;
 use super::surface::{Graphics, depth_view, os_message, surface_config};
 use super::timer::GpuTimer;
 use super::{Shading, ViewError, ViewSummary};
 use crate::evaluator::table::load_fabric_table;
+use crate::evaluator::{EvaluationContext, GpuOptions};
 use crate::formats::table_exr::TableFile;
-use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
+use crate::gpu::{GpuContext, GpuSampler};
 use crate::lighting::Environment;
-use crate::model::{Fabric, ResonantNodes};
+use crate::model::Fabric;
 use crate::render::{Camera, FrameSettings, FrameTargets, GpuEnvironment, LightSource, Renderer};
-use crate::sampling::Sampler;
 use crate::scene::Scene;
 use crate::scene::mesh::Mesh;
 use std::path::PathBuf;
@@ -87,8 +88,8 @@ pub(super) fn run(setup: Setup, table: TableFile) -> Result<ViewSummary, ViewErr
 
 struct App {
     setup: Setup,
-    /// The first fabric's table, until the window's device has it and, with an environment
-    /// light, until its sampler is built from it.
+    /// The first fabric's table, read before the window opens, until the window's device
+    /// has it.
     first_table: Option<TableFile>,
     orbit: OrbitControl,
     light: LightControl,
@@ -105,18 +106,6 @@ struct App {
     last_title: Instant,
     graphics: Option<Graphics>,
     error: Option<ViewError>,
-}
-
-/// A fabric's GPU evaluations of F: the table lookup, and the direct shader once asked for.
-pub(super) struct FabricGpu {
-    lookup: GpuTable,
-    /// The direct shader and its samples per thread.
-    direct: Option<(u32, GpuDirect)>,
-    /// The resonant shader (default nodes), once asked for.
-    resonant: Option<GpuResonant>,
-    /// The fabric's importance sampler (built from its table), once the environment light
-    /// needs it.
-    sampler: Option<GpuSampler>,
 }
 
 impl App {
@@ -148,11 +137,14 @@ impl App {
         event_loop.exit();
     }
 
+    /// The spelling of the evaluator shown (`table`, `paper:32`, `resonant:6/5/2`).
     fn mode_label(&self) -> String {
-        match self.shading {
-            Shading::Lookup => "table lookup".to_string(),
-            Shading::Direct => format!("direct shader N={}", self.samples),
-            Shading::Resonant => format!("resonant shader nodes {}", ResonantNodes::DEFAULT),
+        self.shading.evaluator(self.samples).spelling()
+    }
+
+    fn gpu_options(&self) -> GpuOptions {
+        GpuOptions {
+            horizon_band: self.setup.horizon_band,
         }
     }
 
@@ -191,20 +183,21 @@ impl App {
             .first_table
             .take()
             .ok_or_else(|| ViewError::Render("the first table was already used".into()))?;
-        let first = FabricGpu {
-            lookup: GpuTable::with_horizon_band(&gpu, &table.table, self.setup.horizon_band)?,
-            direct: None,
-            resonant: None,
-            sampler: None,
-        };
-        self.first_table = Some(table);
+        let first = FabricGpu::with_table(&gpu, table, self.gpu_options())
+            .map_err(|e| ViewError::Render(e.to_string()))?;
         let environment = self
             .setup
             .environment
             .as_ref()
             .map(|map| GpuEnvironment::new(&gpu, map))
             .transpose()?;
-        let renderer = Renderer::new(&gpu, config.format, false, &self.setup.mesh, &first.lookup)?;
+        let renderer = Renderer::new(
+            &gpu,
+            config.format,
+            false,
+            &self.setup.mesh,
+            first.shown[0].brdf.as_ref(),
+        )?;
         let mut fabrics: Vec<Option<FabricGpu>> = self.setup.fabrics.iter().map(|_| None).collect();
         fabrics[self.current] = Some(first);
         let depth = depth_view(&gpu, &config);
@@ -226,39 +219,40 @@ impl App {
         Ok(graphics)
     }
 
-    /// Shows fabric `index` with `shading` (direct: `samples` per thread), loading what it
-    /// needs. On error nothing changes and the message says why.
+    /// Shows fabric `index` with `shading` (paper mode: `samples` per thread), preparing
+    /// what it needs. On error nothing changes and the message says why.
     fn show(&mut self, index: usize, shading: Shading, samples: u32) -> Result<(), String> {
+        let options = self.gpu_options();
+        let context = EvaluationContext {
+            tables: self.setup.tables.clone(),
+        };
+        let fabric = &self.setup.fabrics[index];
         let Some(g) = &mut self.graphics else {
             return Err("no window".into());
         };
-        let mut file = None;
-        if g.fabrics[index].is_none() {
-            let loaded = load_fabric_table(&self.setup.tables, &self.setup.fabrics[index])
-                .map_err(|e| e.to_string())?;
-            let lookup =
-                GpuTable::with_horizon_band(&g.gpu, &loaded.table, self.setup.horizon_band)
-                    .map_err(|e| e.to_string())?;
-            g.fabrics[index] = Some(FabricGpu {
-                lookup,
-                direct: None,
-                resonant: None,
-                sampler: None,
-            });
-            file = Some(loaded);
-        }
-        let Some(f) = &mut g.fabrics[index] else {
-            return Err("fabric not loaded".into());
+        let f = match &mut g.fabrics[index] {
+            Some(f) => f,
+            slot => {
+                let file =
+                    load_fabric_table(&self.setup.tables, fabric).map_err(|e| e.to_string())?;
+                slot.insert(
+                    FabricGpu::with_table(&g.gpu, file, options).map_err(|e| e.to_string())?,
+                )
+            }
         };
         if let (true, Some(map)) = (self.environment_on, &g.environment) {
             if f.sampler.is_none() {
-                // The first table stays with the App until its sampler is built here.
-                let file = match file.take().or_else(|| self.first_table.take()) {
-                    Some(file) if file.table.fabric == self.setup.fabrics[index] => file,
-                    _ => load_fabric_table(&self.setup.tables, &self.setup.fabrics[index])
-                        .map_err(|e| e.to_string())?,
-                };
-                let sampler = Sampler::for_table(&file.table);
+                // The environment is sampled by the table's sampler whatever the mode shown.
+                let table = f
+                    .entry(
+                        &g.gpu,
+                        Shading::Lookup.evaluator(samples).as_ref(),
+                        fabric,
+                        &context,
+                        options,
+                    )
+                    .map_err(|e| e.to_string())?;
+                let sampler = f.shown[table].evaluation.sampler();
                 f.sampler = Some(GpuSampler::new(&g.gpu, &sampler).map_err(|e| e.to_string())?);
             }
             if let Some(sampler) = &f.sampler {
@@ -267,37 +261,15 @@ impl App {
                     .map_err(|e| e.to_string())?;
             }
         }
-        match shading {
-            Shading::Lookup => g
-                .renderer
-                .set_brdf(&g.gpu, &f.lookup)
-                .map_err(|e| e.to_string())?,
-            Shading::Direct => {
-                if f.direct.as_ref().map(|(n, _)| *n) != Some(samples) {
-                    let direct = GpuDirect::new(&g.gpu, &self.setup.fabrics[index], samples)
-                        .map_err(|e| format!("direct shader unavailable: {e}"))?;
-                    f.direct = Some((samples, direct));
-                }
-                if let Some((_, direct)) = &f.direct {
-                    g.renderer
-                        .set_brdf(&g.gpu, direct)
-                        .map_err(|e| format!("direct shader unavailable: {e}"))?;
-                }
-            }
-            Shading::Resonant => {
-                if f.resonant.is_none() {
-                    let fabric = &self.setup.fabrics[index];
-                    let resonant = GpuResonant::new(&g.gpu, fabric, ResonantNodes::DEFAULT)
-                        .map_err(|e| format!("resonant shader unavailable: {e}"))?;
-                    f.resonant = Some(resonant);
-                }
-                if let Some(resonant) = &f.resonant {
-                    g.renderer
-                        .set_brdf(&g.gpu, resonant)
-                        .map_err(|e| format!("resonant shader unavailable: {e}"))?;
-                }
-            }
-        }
+        let evaluator = shading.evaluator(samples);
+        let unavailable =
+            |e: &dyn std::fmt::Display| format!("{} unavailable: {e}", evaluator.spelling());
+        let i = f
+            .entry(&g.gpu, evaluator.as_ref(), fabric, &context, options)
+            .map_err(|e| unavailable(&e))?;
+        g.renderer
+            .set_brdf(&g.gpu, f.shown[i].brdf.as_ref())
+            .map_err(|e| unavailable(&e))?;
         let label = g.renderer.brdf_label().to_string();
         let changed = (index, shading, samples) != (self.current, self.shading, self.samples);
         self.current = index;
@@ -348,28 +320,28 @@ impl App {
                 }
             }
             Action::ToggleLightSpin => self.light.spinning = !self.light.spinning,
-            Action::ToggleDirect => {
+            Action::TogglePaper => {
                 let next = match shading {
-                    Shading::Direct => Shading::Lookup,
-                    Shading::Lookup | Shading::Resonant => Shading::Direct,
+                    Shading::Paper => Shading::Lookup,
+                    Shading::Lookup | Shading::Resonant => Shading::Paper,
                 };
                 self.show_or_report(index, next, samples);
             }
             Action::ToggleResonant => {
                 let next = match shading {
                     Shading::Resonant => Shading::Lookup,
-                    Shading::Lookup | Shading::Direct => Shading::Resonant,
+                    Shading::Lookup | Shading::Paper => Shading::Resonant,
                 };
                 self.show_or_report(index, next, samples);
             }
             Action::Samples(more) => {
                 let next = step_samples(samples, more);
-                if shading == Shading::Direct {
+                if shading == Shading::Paper {
                     self.show_or_report(index, shading, next);
                 } else {
-                    // Takes effect when the direct shader is next shown.
+                    // Takes effect when paper mode is next shown.
                     self.samples = next;
-                    println!("clothbake view: direct shader samples N={next}");
+                    println!("clothbake view: paper mode samples N={next}");
                 }
             }
             Action::ToggleEnvironment => {

@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 use winit::dpi::PhysicalSize;
 use winit::window::Window;
 
-use super::app::FabricGpu;
+use super::shading::FabricGpu;
 
 /// The window and everything drawn into it.
 pub(super) struct Graphics {
