@@ -1,5 +1,6 @@
 //! The baker: integrates the full patch transfer (all tangent samples, masking, reweighting,
-//! normalisation, per docs/model.md#baking-rule) at every texel of a layout, in parallel with rayon.
+//! normalisation, per docs/model.md#baking-rule) at every texel of a layout, in parallel with
+//! rayon.
 //!
 //! Each texel is a pure function of its coordinates and results are collected in order, so a
 //! table is bit-identical whatever the thread count.

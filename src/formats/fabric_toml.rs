@@ -6,7 +6,8 @@ use crate::model::{Fabric, FabricError};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
-/// The six measured fabrics of docs/model.md#the-six-built-in-fabrics, as shipped in `tables/fabrics.toml`.
+/// The six measured fabrics of docs/model.md#the-six-built-in-fabrics, as shipped in
+/// `tables/fabrics.toml`.
 pub const BUILTIN_FABRICS_TOML: &str = include_str!("../../tables/fabrics.toml");
 
 /// Largest fabric file read: a fabric with two 256-point curves is about 10 KiB of TOML, so

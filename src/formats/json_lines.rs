@@ -1,8 +1,8 @@
 //! The JSON-lines interfaces of `clothbake eval` and `clothbake sample`: one request per
 //! input line, one answer per output line, in order.
 //!
-//! - `eval`: `{"wi":[x,y,z],"wo":[x,y,z]}` (the patch frame of docs/model.md#frames-and-directions, normalised here) →
-//!   `{"f":[r,g,b]}`, plus `"table"` and `"pdf"` when asked for.
+//! - `eval`: `{"wi":[x,y,z],"wo":[x,y,z]}` (the patch frame of docs/model.md#frames-and-directions,
+//!   normalised here) → `{"f":[r,g,b]}`, plus `"table"` and `"pdf"` when asked for.
 //! - `sample`: `{"wo":[x,y,z],"u":[u1,u2,u3]}` (u in [0, 1)) →
 //!   `{"wi":[x,y,z],"pdf":p,"weight":[r,g,b]}`, `"wi":null` when the draw is rejected.
 //!

@@ -1,6 +1,7 @@
 //! The GPU runtime core: a wgpu device (headless or for a window surface), and evaluations of
-//! the patch transfer F(wi, wo) (docs/model.md#the-patch-transfer-f) on the GPU behind one interface, [`GpuBrdf`]: a
-//! WGSL module defining `cloth_brdf(wi, wo)` plus the bind group it reads.
+//! the patch transfer F(wi, wo) (docs/model.md#the-patch-transfer-f) on the GPU behind one
+//! interface, [`GpuBrdf`]: a WGSL module defining `cloth_brdf(wi, wo)` plus the bind group it
+//! reads.
 //!
 //! - [`GpuContext`]: device and queue, the adapter's description, GPU timestamps if offered.
 //! - [`GpuTable`]: a baked [`crate::table::Table`] on the GPU, looked up by
@@ -214,9 +215,9 @@ impl GpuContext {
     }
 }
 
-/// A GPU evaluation of the patch transfer F(wi, wo) (docs/model.md#the-patch-transfer-f), as a WGSL module plus its
-/// resources. A shader using it concatenates [`GpuBrdf::wgsl`] with its own source and binds
-/// [`GpuBrdf::bind_group`] at group 0 (its own resources in other groups).
+/// A GPU evaluation of the patch transfer F(wi, wo) (docs/model.md#the-patch-transfer-f), as a WGSL
+/// module plus its resources. A shader using it concatenates [`GpuBrdf::wgsl`] with its own source
+/// and binds [`GpuBrdf::bind_group`] at group 0 (its own resources in other groups).
 ///
 /// Naming contract: besides `cloth_brdf`, every top-level name the module declares (types,
 /// functions, constants, bindings) starts with `cloth_`, `Cloth` or `CLOTH_`, so a caller's

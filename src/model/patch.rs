@@ -1,5 +1,6 @@
-//! The cosine-weighted patch transfer `F(wi, wo)` of docs/model.md#the-patch-transfer-f: two thread families, each a
-//! curve of tangent samples with shadowing/masking and reweighting, normalised by `Q`.
+//! The cosine-weighted patch transfer `F(wi, wo)` of docs/model.md#the-patch-transfer-f: two thread
+//! families, each a curve of tangent samples with shadowing/masking and reweighting, normalised by
+//! `Q`.
 
 use super::curve::{CurvePiece, Integration, curve_pieces};
 use super::fabric::{Fabric, Thread};

@@ -1,6 +1,6 @@
 //! What changes from frame to frame ([`FrameSettings`]: camera, lights, exposure,
-//! background, environment samples) and its packing into the uniform block of shaders/render.wgsl. The packing is
-//! private to the renderer; only its layout has to match the WGSL.
+//! background, environment samples) and its packing into the uniform block of shaders/render.wgsl.
+//! The packing is private to the renderer; only its layout has to match the WGSL.
 
 use super::environment_map::EnvironmentDimensions;
 use super::{Camera, LightSource};

@@ -1,7 +1,7 @@
 //! Cloth meshes with a thread frame per vertex: position, normal and tangent, where the
-//! tangent is the direction of thread 1 (the model's x, docs/model.md#frames-and-directions; the mesh's u direction) and thread 2
-//! runs along y = n × t. Procedural sheets (`drape`, `curtain`, `plane`) or a user's OBJ
-//! file with UVs.
+//! tangent is the direction of thread 1 (the model's x, docs/model.md#frames-and-directions; the
+//! mesh's u direction) and thread 2 runs along y = n × t. Procedural sheets (`drape`, `curtain`,
+//! `plane`) or a user's OBJ file with UVs.
 //!
 //! Procedural sheets are parametric surfaces P(u, v): the tangent is ∂P/∂u and the normal
 //! (∂P/∂u × ∂P/∂v)/|…|, both from central differences of P at a step far below a grid cell,

@@ -152,8 +152,9 @@ impl OrbitCamera {
     }
 }
 
-/// A light. Radiance leaving the cloth is `Σ E·color·F(wi, wo)` over the lights (docs/model.md#the-patch-transfer-f:
-/// a distant light of perpendicular irradiance E gives `L_o = E·F`); there are no shadows.
+/// A light. Radiance leaving the cloth is `Σ E·color·F(wi, wo)` over the lights
+/// (docs/model.md#the-patch-transfer-f: a distant light of perpendicular irradiance E gives
+/// `L_o = E·F`); there are no shadows.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Light {

@@ -30,8 +30,8 @@ impl Default for LookupShaderOptions {
 impl LookupShaderOptions {
     /// The lookup for an adapter: the default, without the horizon band on a software
     /// rasteriser (`software`), where it made split_frame's frame 3–8× thread_frame's
-    /// and changed its image error by less than 0.01 points (docs/performance.md). `horizon_band`, when
-    /// given, decides instead.
+    /// and changed its image error by less than 0.01 points (docs/performance.md). `horizon_band`,
+    /// when given, decides instead.
     pub fn for_adapter(software: bool, horizon_band: Option<bool>) -> Self {
         Self {
             horizon_band: horizon_band.unwrap_or(!software),
@@ -41,8 +41,8 @@ impl LookupShaderOptions {
 
 /// The lookup of `table` as WGSL: a generated block (the thread albedos and the layout's
 /// [`super::TableLookup::wgsl_constants`]), `shaders/lookup.wgsl`, the layout's WGSL file,
-/// and `fn cloth_brdf(wi, wo)` = F(wi, wo) by the table (docs/model.md#the-patch-transfer-f; [`Table::lookup`] up to
-/// f32 rounding and filtering precision). Bindings as the layout's textures
+/// and `fn cloth_brdf(wi, wo)` = F(wi, wo) by the table (docs/model.md#the-patch-transfer-f;
+/// [`Table::lookup`] up to f32 rounding and filtering precision). Bindings as the layout's textures
 /// ([`super::TableLookup::textures`]) and the sampler at binding 3; no uniform block.
 pub fn lookup_wgsl(table: &Table) -> String {
     lookup_wgsl_with(table, &LookupShaderOptions::default())

@@ -27,7 +27,8 @@
 //! - [`ClothMaterial`] binds them; its fragment shader sums F(wi, wo)·E over Bevy's
 //!   directional and point lights (shadows included), adds the ambient light times the
 //!   directional albedo, and the view's environment map light by filtered importance
-//!   sampling with the fabric's sampler. See this crate's README.md for what is and is not supported.
+//!   sampling with the fabric's sampler. See this crate's README.md for what is and is
+//!   not supported.
 //! - [`environment_cubemap`] turns a clothbake environment map (the studio, or an
 //!   equirectangular `.hdr`/`.exr`) into a cubemap for Bevy's `EnvironmentMapLight`.
 //! - [`scene_light`] turns a clothbake scene light into a Bevy light in Bevy's units.
