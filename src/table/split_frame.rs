@@ -70,6 +70,7 @@
 
 use super::axis::AxisF32;
 use super::fast_math::Lanes;
+use super::gpu_bound::{self, GpuErrorBound};
 use super::point_samples::{PointSamples, PointSums};
 use super::resonant_kernel::{resonant_rules_wgsl, resonant_thread_wgsl};
 use super::thread_frame::{self, AxisPlan, LocatedPairs, ThreadGeometry};
@@ -640,6 +641,59 @@ impl TableLookup for Geometry {
             textures.push(thread_frame::masking_texture(&masking));
         }
         textures
+    }
+
+    /// The sloped tables' interpolation errors propagated to F as for thread_frame (their
+    /// ⟨P⟩ weighted by the sloped share; none in the horizon band), plus the f32 sample
+    /// kernel's relative error for the point masses and the band's resonant quadrature
+    /// ([`gpu_bound`] point 4).
+    fn gpu_error_bound(
+        &self,
+        planes: &[Plane],
+        albedo: [DVec3; 2],
+        wi: DVec3,
+        wo: DVec3,
+        cpu: DVec3,
+    ) -> GpuErrorBound {
+        let floor = gpu_bound::floor(cpu);
+        let sums = [0, 1].map(|j| self.thread_sums(planes, j, wi, wo));
+        let q = self.gap * wo.z + (0..2).map(|j| self.coverage[j] * sums[j][2]).sum::<f64>();
+        let mut total = floor;
+        if q <= 0.0 {
+            return GpuErrorBound {
+                per_channel: total,
+                on_fold: false,
+            };
+        }
+        total += cpu.abs() * gpu_bound::KERNEL_RELATIVE;
+        let mut folded = false;
+        if self.in_horizon_band(wi, wo) {
+            return GpuErrorBound {
+                per_channel: total,
+                on_fold: false,
+            };
+        }
+        for (j, slopes) in self.tabulated() {
+            let (t, m) = self
+                .plane_indices(j)
+                .expect("a tabulated thread has planes");
+            let [r, tr, p, c2] = slopes.geometry.sample(&planes[t], &planes[m], wi, wo);
+            let (errors, fold) =
+                gpu_bound::thread_errors(&slopes.geometry, &planes[t], &planes[m], wi, wo);
+            folded |= fold != [0.0; 2];
+            let a = self.coverage[j] * slopes.weight;
+            let c = c2.max(1e-8);
+            let d_r = a * p / (c * q);
+            let d_t = albedo[j] * (a * p / q);
+            let d_p = (DVec3::splat(r / c) + albedo[j] * tr - cpu) * (a / q);
+            total += DVec3::splat(d_r * (errors[0] + fold[0]))
+                + d_t.abs() * (errors[1] + fold[1])
+                + d_p.abs() * errors[2];
+        }
+        GpuErrorBound {
+            per_channel: total,
+            on_fold: folded,
+        }
     }
 
     fn as_any(&self) -> &dyn Any {
