@@ -4,7 +4,8 @@
 //! same view, an error heat map and the image error.
 
 use super::image::{
-    HEATMAP_LOG10_RANGE, ImageError, error_heatmap, image_error, write_linear_exr, write_png,
+    HEATMAP_LOG10_RANGE, ImageError, ImageFileError, error_heatmap, image_error, write_linear_exr,
+    write_png,
 };
 use super::reference::ReferenceEnvironment;
 use super::{FrameSettings, GpuEnvironment, Headless, RenderOutput, reference};
@@ -85,9 +86,30 @@ pub fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
 }
 
 /// Runs the job; `say` receives each line of the report as it happens.
-pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRender>, String> {
-    let set =
-        FabricSet::load_or_builtin(job.scene.fabric_file.as_deref()).map_err(|e| e.to_string())?;
+/// Why a render job failed: the library error of the step that failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Fabrics(#[from] crate::formats::fabric_toml::FabricFileError),
+    #[error(transparent)]
+    Environment(#[from] crate::lighting::EnvironmentError),
+    #[error(transparent)]
+    Evaluator(#[from] crate::evaluator::EvaluatorError),
+    #[error(transparent)]
+    Mesh(#[from] crate::scene::mesh::MeshError),
+    #[error(transparent)]
+    Gpu(#[from] crate::gpu::GpuError),
+    #[error(transparent)]
+    Image(#[from] ImageFileError),
+    #[error("cannot create {path}: {source}", path = .path.display())]
+    CreateDirectory {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRender>, RenderError> {
+    let set = FabricSet::load_or_builtin(job.scene.fabric_file.as_deref())?;
     let names = match &job.fabric {
         Some(name) => vec![name.clone()],
         None => job.scene.fabrics.clone(),
@@ -95,28 +117,21 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     let fabrics: Vec<Fabric> = names
         .iter()
         .map(|name| set.require(name).cloned())
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
+        .collect::<Result<_, _>>()?;
     // The environment, then the tables: a bad file or a missing table is an error before
     // any GPU work.
-    let environment = job
-        .scene
-        .environment
-        .source
-        .load()
-        .map_err(|e| e.to_string())?;
+    let environment = job.scene.environment.source.load()?;
     let evaluation_context = EvaluationContext {
         tables: job.tables.clone(),
     };
     let evaluations: Vec<Box<dyn FabricEvaluator>> = fabrics
         .iter()
         .map(|f| job.evaluator.prepare(f, &evaluation_context))
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
+        .collect::<Result<_, _>>()?;
     let mut settings = FrameSettings::from_scene(&job.scene);
     let mesh = match &job.mesh {
         Some(path) => {
-            let mesh = Mesh::load_obj(path).map_err(|e| e.to_string())?;
+            let mesh = Mesh::load_obj(path)?;
             // Frame the user's mesh: aim at its bounding sphere, keep the view direction.
             let (centre, radius) = mesh.bounding_sphere();
             let fov = settings.camera.fov_y_deg.to_radians();
@@ -131,15 +146,14 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             ));
             mesh
         }
-        None => Mesh::from_spec(&job.scene.mesh).map_err(|e| e.to_string())?,
+        None => Mesh::from_spec(&job.scene.mesh)?,
     };
-    let context = GpuContext::new().map_err(|e| e.to_string())?;
+    let context = GpuContext::new()?;
     say(&format!("adapter: {}", context.adapter));
     let gpu_environment = environment
         .as_ref()
         .map(|map| GpuEnvironment::new(&context, map))
-        .transpose()
-        .map_err(|e| e.to_string())?;
+        .transpose()?;
     if let Some(map) = &environment {
         say(&format!(
             "environment {} ({}×{}, {} mip levels): {} filtered importance samples per pixel",
@@ -154,35 +168,31 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     let mut headless: Option<Headless> = None;
     let mut results = Vec::new();
     for (fabric, evaluation) in fabrics.iter().zip(&evaluations) {
-        let brdf: Box<dyn GpuBrdf> = evaluation
-            .gpu(&context, job.gpu_options)
-            .map_err(|e| e.to_string())?;
+        let brdf: Box<dyn GpuBrdf> = evaluation.gpu(&context, job.gpu_options)?;
         let renderer = match &mut headless {
             Some(h) => {
-                h.renderer
-                    .set_brdf(&context, brdf.as_ref())
-                    .map_err(|e| e.to_string())?;
+                h.renderer.set_brdf(&context, brdf.as_ref())?;
                 h
             }
-            None => headless.insert(
-                Headless::new(&context, &mesh, brdf.as_ref(), job.width, job.height)
-                    .map_err(|e| e.to_string())?,
-            ),
+            None => headless.insert(Headless::new(
+                &context,
+                &mesh,
+                brdf.as_ref(),
+                job.width,
+                job.height,
+            )?),
         };
         // The importance sampler that fits the evaluation, built on the CPU and uploaded: a
         // table's from its texels (a fraction of a second), else the fabric's from the
         // resonant quadrature.
         let sampler = gpu_environment.as_ref().map(|_| evaluation.sampler());
         if let (Some(map), Some(sampler)) = (&gpu_environment, &sampler) {
-            let gpu_sampler = GpuSampler::new(&context, sampler).map_err(|e| e.to_string())?;
+            let gpu_sampler = GpuSampler::new(&context, sampler)?;
             renderer
                 .renderer
-                .set_environment(&context, map, &gpu_sampler)
-                .map_err(|e| e.to_string())?;
+                .set_environment(&context, map, &gpu_sampler)?;
         }
-        let output = renderer
-            .render(&context, &settings, job.frames)
-            .map_err(|e| e.to_string())?;
+        let output = renderer.render(&context, &settings, job.frames)?;
         let png = output_path(&job.out, &fabric.name, several);
         create_parent(&png)?;
         write_png(&png, &output.display)?;
@@ -203,9 +213,7 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             output.timing.source
         ));
         let comparison = if job.reference {
-            let gbuffer = renderer
-                .gbuffer(&context, &settings)
-                .map_err(|e| e.to_string())?;
+            let gbuffer = renderer.gbuffer(&context, &settings)?;
             let start = Instant::now();
             // Under an environment light the reference evaluates F at hundreds of directions
             // per pixel: the resonant quadrature (within 0.02–0.11% of the direct rule,
@@ -287,10 +295,14 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     Ok(results)
 }
 
-fn create_parent(path: &Path) -> Result<(), String> {
+fn create_parent(path: &Path) -> Result<(), RenderError> {
     match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create {}: {e}", dir.display())),
+        Some(dir) if !dir.as_os_str().is_empty() => {
+            std::fs::create_dir_all(dir).map_err(|source| RenderError::CreateDirectory {
+                path: dir.to_path_buf(),
+                source,
+            })
+        }
         _ => Ok(()),
     }
 }

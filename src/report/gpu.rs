@@ -223,7 +223,8 @@ fn measure_on(
             });
             let output = renderer.render(context, &settings, frames).map_err(text)?;
             source = output.timing.source.to_string();
-            let error = image_error(&output.linear, reference, settings.exposure)?;
+            let error = image_error(&output.linear, reference, settings.exposure)
+                .map_err(|e| e.to_string())?;
             let point = GpuPoint {
                 shader: shader.to_string(),
                 samples: *samples,
