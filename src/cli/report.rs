@@ -13,9 +13,22 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "report")]
     out: PathBuf,
+    /// Measure nothing: write OUT/REPORT.md again from OUT/report.json (after a change to
+    /// how the report is written).
+    #[arg(long, conflicts_with = "quick")]
+    rerender: bool,
 }
 
 pub fn run(args: Args) -> CommandResult {
+    if args.rerender {
+        report::rerender(&args.out)?;
+        println!(
+            "{}: REPORT.md written from {}",
+            args.out.display(),
+            report::JSON_FILE_NAME
+        );
+        return Ok(());
+    }
     let fabrics = FabricSet::builtin().fabrics().to_vec();
     let config = if args.quick {
         ReportConfig::quick(fabrics)

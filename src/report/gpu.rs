@@ -15,7 +15,7 @@ use crate::render::{FrameSettings, Headless, reference};
 use crate::scene::Scene;
 use crate::scene::mesh::Mesh;
 use crate::table::Table;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// A shader of the GPU section: its kind ("lookup", "paper", "resonant"), paper-mode N and
@@ -23,7 +23,7 @@ use std::time::Instant;
 type ShaderId = (&'static str, Option<u32>, Option<ResonantNodes>);
 
 /// One way of shading the scene: its GPU time per frame and its image error.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GpuPoint {
     /// "lookup" (the table shader), "paper" or "resonant" (the model evaluated in the shader
     /// by paper mode or by the resonant quadrature).
@@ -44,7 +44,7 @@ pub struct GpuPoint {
 }
 
 /// GPU figures of one fabric.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GpuFabric {
     pub name: String,
     /// Layout and resolution of the table the lookup shader sampled.
@@ -57,7 +57,7 @@ pub struct GpuFabric {
 }
 
 /// The GPU section of the report.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GpuSection {
     /// The adapter wgpu found (name, backend, device type, driver), if any.
     pub adapter: Option<String>,

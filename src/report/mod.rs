@@ -1,7 +1,7 @@
 //! `clothbake report`: speed against error, measured in one run and written as Markdown,
 //! JSON and PNG plots.
 //!
-//! For every fabric it measures, against the direct evaluation (MODEL.md's ground truth)
+//! For every fabric it measures, against the direct evaluation (the ground truth, docs/model.md)
 //! on the seeded validation sets of [`crate::measure::direction_sets`] (through
 //! [`crate::measure::accuracy::Reference`]):
 //!
@@ -25,22 +25,30 @@
 //!
 //! Timings are medians of repeated runs ([`timing`]); CPU evaluation timings run on one
 //! thread over one fixed pair set, so their ratios compare equal work.
+//!
+//! REPORT.md is rendered from the [`Report`] alone ([`markdown::render`]): its "Which table
+//! or evaluation to pick" ([`pick`]) and its error budgets are computed from the figures, so
+//! [`rerender`] rewrites the page from report.json without measuring anything.
 
+mod files;
 pub mod gpu;
 pub mod markdown;
+mod measure;
+pub mod pick;
 pub mod plots;
+mod summary;
 pub mod timing;
 
-use crate::bake::{BakeError, bake};
-use crate::measure::accuracy::{Reference, TableError, lookup_batch_sum, lookup_f32};
-use crate::measure::direction_sets::{highlight_pairs, uniform_pairs};
-use crate::model::{Fabric, Integration, Patch, ResonantNodes};
-use crate::table::{Layout, Table};
-use glam::DVec3;
-use serde::Serialize;
-use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
-use timing::{BakeTiming, EvalTiming, pair_by_pair, time_interleaved, time_repeated};
+pub use files::{JSON_FILE_NAME, read, rerender};
+pub use measure::run;
+
+use crate::bake::BakeError;
+use crate::measure::accuracy::TableError;
+use crate::model::{Fabric, ResonantNodes};
+use crate::table::Layout;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+use timing::{BakeTiming, EvalTiming};
 
 /// Seed of the pair set every CPU timing evaluates (uniform over the hemisphere pair), apart
 /// from the validation seeds so that timing and error sets are independent.
@@ -48,7 +56,7 @@ pub const TIMING_SEED: u64 = 0x5eed_0010;
 
 /// What to measure and how often. [`ReportConfig::quick`] and [`ReportConfig::full`] are the
 /// two presets of the command; tests build smaller ones.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ReportConfig {
     /// "quick", "full" or a name for a custom configuration.
     pub mode: String,
@@ -186,16 +194,17 @@ fn report_resolutions(quick: bool) -> Vec<(Layout, Vec<u32>)> {
 }
 
 /// Errors and cost of paper mode at one N.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PaperPoint {
     pub samples: u32,
+    #[serde(deserialize_with = "files::table_error")]
     pub error: TableError,
     pub timing: EvalTiming,
 }
 
 /// Mean kernel evaluations per light of the resonant quadrature: the tangent samples whose
 /// terms both threads computed for one (wi, wo), averaged over a validation set.
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 pub struct EvaluationsPerLight {
     pub uniform: f64,
     pub highlight: f64,
@@ -204,13 +213,14 @@ pub struct EvaluationsPerLight {
 }
 
 /// Errors and cost of the resonant quadrature at one set of node counts.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ResonantPoint {
     pub nodes: ResonantNodes,
     /// `nodes` as the command line spells them, "surface/volume/base".
     pub label: String,
     /// Whether these are [`ResonantNodes::DEFAULT`].
     pub default: bool,
+    #[serde(deserialize_with = "files::table_error")]
     pub error: TableError,
     pub timing: EvalTiming,
     /// Kernel evaluations per light on the error sets (uniform and highlight pairs).
@@ -224,12 +234,13 @@ pub struct ResonantPoint {
 }
 
 /// One baked table: its size, errors, CPU lookup cost and bake time.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct TablePoint {
     pub layout: Layout,
     pub resolution: u32,
     /// Bytes of f16 texel data.
     pub bytes: usize,
+    #[serde(deserialize_with = "files::table_error")]
     pub error: TableError,
     /// `Table::lookup_batch` (the fast CPU path, eight pairs' coordinates at a time, RGB
     /// with the albedos applied) on one thread over the timing pairs, directions converted
@@ -240,7 +251,7 @@ pub struct TablePoint {
 }
 
 /// The speed-up of a bake from one to two threads.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Speedup {
     pub layout: Layout,
     pub resolution: u32,
@@ -253,7 +264,7 @@ pub struct Speedup {
 }
 
 /// A paper-mode point a table is compared with.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PaperMatch {
     pub samples: u32,
     pub ns_per_eval: f64,
@@ -262,7 +273,7 @@ pub struct PaperMatch {
 
 /// How a table compares with paper mode, on the worse of its uniform and highlight
 /// relative RMS errors ("error") and its CPU cost per evaluation ("cost").
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Verdict {
     pub layout: Layout,
     pub resolution: u32,
@@ -288,7 +299,7 @@ pub struct Verdict {
 }
 
 /// An evaluation of the model (paper mode or resonant) a table is compared with.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct EvaluationMatch {
     /// "paper N = 32" or "resonant 6/5/2".
     pub evaluation: String,
@@ -298,7 +309,7 @@ pub struct EvaluationMatch {
 
 /// How a table compares with the best evaluation of the model (paper mode or resonant):
 /// the fields of [`Verdict`] over both families together.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct BestVerdict {
     /// The cheapest evaluation with an error at most the table's.
     pub equal_error: Option<EvaluationMatch>,
@@ -313,7 +324,7 @@ pub struct BestVerdict {
 }
 
 /// Everything measured for one fabric.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct FabricReport {
     pub name: String,
     /// The direct evaluation's cost (its error is 0 by definition).
@@ -329,7 +340,7 @@ pub struct FabricReport {
 }
 
 /// The machine the report ran on.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Machine {
     /// `model name` of /proc/cpuinfo, where there is one.
     pub cpu_model: Option<String>,
@@ -346,7 +357,7 @@ pub struct Machine {
 }
 
 /// The whole report, as written to report.json.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Report {
     pub clothbake_version: String,
     /// `git rev-parse HEAD` of the working directory, with "-dirty" when tracked files
@@ -374,6 +385,16 @@ pub enum ReportError {
     Io {
         path: PathBuf,
         source: std::io::Error,
+    },
+    #[error("cannot read {path}: {source}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path} is not a report this clothbake can read: {source}")]
+    Json {
+        path: PathBuf,
+        source: serde_json::Error,
     },
     #[error("plot {file}: {message}")]
     Plot { file: String, message: String },
@@ -461,425 +482,6 @@ pub fn verdict(table: &TablePoint, paper: &[PaperPoint], resonant: &[ResonantPoi
         table_wins: !dominated,
         vs_best_evaluation,
     }
-}
-
-/// Whether two tables hold bit-identical texels.
-fn identical(a: &Table, b: &Table) -> bool {
-    a.planes().len() == b.planes().len()
-        && a.planes().iter().zip(b.planes()).all(|(p, q)| {
-            p.spec == q.spec
-                && p.data.len() == q.data.len()
-                && p.data
-                    .iter()
-                    .zip(&q.data)
-                    .all(|(x, y)| x.to_bits() == y.to_bits())
-        })
-}
-
-fn pool(threads: usize) -> Result<rayon::ThreadPool, ReportError> {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| ReportError::Config(format!("cannot start a thread pool: {e}")))
-}
-
-/// Measures one fabric; `keep` receives each baked table (for the GPU section).
-fn measure_fabric(
-    config: &ReportConfig,
-    fabric: &Fabric,
-    bake_pool: &rayon::ThreadPool,
-    progress: &mut dyn FnMut(&str),
-    keep: &mut dyn FnMut(&Table),
-) -> Result<FabricReport, ReportError> {
-    let name = &fabric.name;
-    let started = Instant::now();
-    progress(&format!(
-        "{name}: direct evaluation of {} uniform and {} highlight pairs",
-        config.error_pairs, config.error_pairs
-    ));
-    let reference = bake_pool.install(|| Reference::new(fabric, config.error_pairs));
-
-    // Errors first (parallel), timings afterwards, all estimators interleaved.
-    let papers: Vec<(u32, Patch, TableError)> = config
-        .paper_samples
-        .iter()
-        .map(|&n| {
-            let patch = Patch::new(fabric, Integration::Paper(n));
-            let error = bake_pool.install(|| reference.measure(|wi, wo| patch.eval(wi, wo)));
-            progress(&format!(
-                "{name}: paper N = {n}: {:.2}% uniform, {:.2}% highlight",
-                100.0 * error.uniform.relative_rms,
-                100.0 * error.highlight.relative_rms,
-            ));
-            (n, patch, error)
-        })
-        .collect();
-    let uniform_set = uniform_pairs(config.error_pairs, crate::measure::accuracy::UNIFORM_SEED);
-    let highlight_set = highlight_pairs(
-        fabric,
-        config.error_pairs,
-        crate::measure::accuracy::HIGHLIGHT_SEED,
-    );
-    let resonants: Vec<(ResonantNodes, Patch, TableError, EvaluationsPerLight)> = config
-        .resonant_nodes
-        .iter()
-        .map(|&nodes| {
-            let patch = Patch::new(fabric, Integration::Resonant(nodes));
-            let error = bake_pool.install(|| reference.measure(|wi, wo| patch.eval(wi, wo)));
-            let count = |pairs| {
-                patch
-                    .resonant_evaluations(pairs)
-                    .expect("a resonant patch counts its evaluations")
-            };
-            let (uniform, max_uniform) = count(&uniform_set);
-            let (highlight, max_highlight) = count(&highlight_set);
-            let evaluations = EvaluationsPerLight {
-                uniform,
-                highlight,
-                max: max_uniform.max(max_highlight),
-            };
-            progress(&format!(
-                "{name}: resonant {nodes}: {:.3}% uniform, {:.3}% highlight, {:.1} uniform and \
-                 {:.1} highlight kernel evaluations per light",
-                100.0 * error.uniform.relative_rms,
-                100.0 * error.highlight.relative_rms,
-                uniform,
-                highlight,
-            ));
-            (nodes, patch, error, evaluations)
-        })
-        .collect();
-    let mut tables: Vec<(Table, TableError, BakeTiming)> = Vec::new();
-    for &(layout, ref resolutions) in &config.resolutions {
-        for &resolution in resolutions {
-            let (table, bake_timing) = time_repeated(
-                bake_pool,
-                config.bake_repetitions,
-                config.repeat_bakes_below_seconds,
-                || bake(fabric, layout, resolution, &|| {}),
-            );
-            let table = table?;
-            let error =
-                bake_pool.install(|| reference.measure(|wi, wo| lookup_f32(&table, wi, wo)));
-            progress(&format!(
-                "{name}: {layout} {resolution}: {} KiB, baked in {:.2} s, {:.2}% uniform, {:.2}% highlight",
-                table.byte_size() / 1024,
-                bake_timing.seconds,
-                100.0 * error.uniform.relative_rms,
-                100.0 * error.highlight.relative_rms,
-            ));
-            keep(&table);
-            tables.push((table, error, bake_timing));
-        }
-    }
-
-    let pairs = uniform_pairs(config.timing_pairs, TIMING_SEED);
-    let direct_patch = Patch::new(fabric, Integration::Direct);
-    let direct_eval = pair_by_pair(|wi, wo| direct_patch.eval(wi, wo));
-    let paper_evals: Vec<timing::BoxedEval> = papers
-        .iter()
-        .map(|(_, patch, _)| Box::new(pair_by_pair(|wi, wo| patch.eval(wi, wo))) as Box<_>)
-        .collect();
-    let resonant_evals: Vec<timing::BoxedEval> = resonants
-        .iter()
-        .map(|(_, patch, _, _)| Box::new(pair_by_pair(|wi, wo| patch.eval(wi, wo))) as Box<_>)
-        .collect();
-    let table_evals: Vec<timing::BoxedEval> = tables
-        .iter()
-        .map(|(table, _, _)| {
-            Box::new(move |pairs: &[(DVec3, DVec3)]| lookup_batch_sum(table, pairs)) as Box<_>
-        })
-        .collect();
-    let evals: Vec<timing::Eval> = std::iter::once(&direct_eval as timing::Eval)
-        .chain(paper_evals.iter().map(|e| &**e as timing::Eval))
-        .chain(resonant_evals.iter().map(|e| &**e as timing::Eval))
-        .chain(table_evals.iter().map(|e| &**e as timing::Eval))
-        .collect();
-    progress(&format!(
-        "{name}: timing {} evaluations on {} pairs, {} samples each",
-        evals.len(),
-        pairs.len(),
-        config.timing_samples
-    ));
-    let mut timings = time_interleaved(
-        &pairs,
-        config.timing_samples,
-        Duration::from_secs_f64(config.min_sample_seconds),
-        &evals,
-    )
-    .into_iter();
-    let direct = timings.next().expect("one timing per evaluation");
-    let paper: Vec<PaperPoint> = papers
-        .iter()
-        .zip(timings.by_ref())
-        .map(|((n, _, error), timing)| PaperPoint {
-            samples: *n,
-            error: *error,
-            timing,
-        })
-        .collect();
-    let paper_points: Vec<(f64, f64)> = paper
-        .iter()
-        .map(|p| (p.timing.ns_per_eval, worst(&p.error)))
-        .collect();
-    let resonant: Vec<ResonantPoint> = resonants
-        .iter()
-        .zip(timings.by_ref())
-        .map(|((nodes, _, error, evaluations), timing)| {
-            let (equal_error, _, _) =
-                compare_with_paper(worst(error), timing.ns_per_eval, &paper_points);
-            let paper_equal_error = equal_error.map(|i| PaperMatch {
-                samples: paper[i].samples,
-                ns_per_eval: paper_points[i].0,
-                error: paper_points[i].1,
-            });
-            ResonantPoint {
-                nodes: *nodes,
-                label: nodes.to_string(),
-                default: *nodes == ResonantNodes::DEFAULT,
-                error: *error,
-                cost_ratio_to_paper: paper_equal_error
-                    .as_ref()
-                    .map(|p| timing.ns_per_eval / p.ns_per_eval),
-                paper_equal_error,
-                evaluations_per_light: *evaluations,
-                timing,
-            }
-        })
-        .collect();
-    let tables: Vec<TablePoint> = tables
-        .iter()
-        .zip(timings)
-        .map(|((table, error, bake), lookup)| TablePoint {
-            layout: table.layout,
-            resolution: table.resolution,
-            bytes: table.byte_size(),
-            error: *error,
-            lookup,
-            bake: bake.clone(),
-        })
-        .collect();
-    let cost = |label: String, ns: f64| format!("{label} {ns:.0}");
-    let costs: Vec<String> = std::iter::once(cost("direct".into(), direct.ns_per_eval))
-        .chain(
-            paper
-                .iter()
-                .map(|p| cost(format!("N={}", p.samples), p.timing.ns_per_eval)),
-        )
-        .chain(
-            resonant
-                .iter()
-                .map(|r| cost(format!("resonant {}", r.label), r.timing.ns_per_eval)),
-        )
-        .chain(tables.iter().map(|t| {
-            cost(
-                format!("{} {}", t.layout, t.resolution),
-                t.lookup.ns_per_eval,
-            )
-        }))
-        .collect();
-    progress(&format!("{name}: ns/eval: {}", costs.join(", ")));
-
-    let speedup = measure_speedup(config, fabric)?;
-    progress(&format!(
-        "{name}: {} {} bake: {:.2} s on 1 thread, {:.2} s on 2, speed-up {:.2}×{}",
-        speedup.layout,
-        speedup.resolution,
-        speedup.one_thread.seconds,
-        speedup.two_threads.seconds,
-        speedup.speedup,
-        if speedup.identical {
-            ", identical texels"
-        } else {
-            ", TEXELS DIFFER"
-        }
-    ));
-    let verdicts = tables
-        .iter()
-        .map(|t| verdict(t, &paper, &resonant))
-        .collect();
-    Ok(FabricReport {
-        name: name.clone(),
-        direct,
-        paper,
-        resonant,
-        tables,
-        speedup,
-        verdicts,
-        seconds: started.elapsed().as_secs_f64(),
-    })
-}
-
-/// Bakes the speed-up table alternately on one and two threads.
-fn measure_speedup(config: &ReportConfig, fabric: &Fabric) -> Result<Speedup, ReportError> {
-    let (layout, resolution) = (config.speedup_layout, config.speedup_resolution);
-    let pools = [pool(1)?, pool(2)?];
-    let mut samples: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
-    let mut tables: [Option<Table>; 2] = [None, None];
-    let mut same = true;
-    for _ in 0..config.speedup_repetitions.max(1) {
-        for (k, pool) in pools.iter().enumerate() {
-            let started = Instant::now();
-            let table = pool.install(|| bake(fabric, layout, resolution, &|| {}))?;
-            samples[k].push(started.elapsed().as_secs_f64());
-            match &tables[k] {
-                Some(first) => same &= identical(first, &table),
-                None => tables[k] = Some(table),
-            }
-        }
-    }
-    let [one, two] = tables;
-    let identical = same
-        && match (&one, &two) {
-            (Some(a), Some(b)) => identical(a, b),
-            _ => false,
-        };
-    let timing = |k: usize, threads: usize| BakeTiming {
-        seconds: timing::median(&samples[k]),
-        samples_seconds: samples[k].clone(),
-        threads,
-    };
-    let one_thread = timing(0, 1);
-    let two_threads = timing(1, 2);
-    Ok(Speedup {
-        layout,
-        resolution,
-        speedup: one_thread.seconds / two_threads.seconds,
-        one_thread,
-        two_threads,
-        identical,
-    })
-}
-
-fn load_average() -> Option<[f64; 3]> {
-    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
-    let mut fields = text.split_whitespace().map(|f| f.parse::<f64>().ok());
-    Some([fields.next()??, fields.next()??, fields.next()??])
-}
-
-fn cpu_model() -> Option<String> {
-    let info = std::fs::read_to_string("/proc/cpuinfo").ok()?;
-    info.lines()
-        .find(|l| l.starts_with("model name"))
-        .and_then(|l| l.split_once(':'))
-        .map(|(_, v)| v.trim().to_string())
-}
-
-/// The commit of the working directory's git checkout, "-dirty" when tracked files differ.
-fn git_commit() -> Option<String> {
-    let run = |args: &[&str]| {
-        std::process::Command::new("git")
-            .args(args)
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-    };
-    let head = run(&["rev-parse", "HEAD"]).filter(|h| !h.is_empty())?;
-    let dirty =
-        run(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
-    Some(if dirty { format!("{head}-dirty") } else { head })
-}
-
-/// Runs the report described by `config`, writing REPORT.md, report.json and the plots
-/// into `out`. `progress` receives one line per finished measurement.
-pub fn run(
-    config: &ReportConfig,
-    out: &Path,
-    command_line: Vec<String>,
-    progress: &mut dyn FnMut(&str),
-) -> Result<Report, ReportError> {
-    if config.fabrics.is_empty() {
-        return Err(ReportError::Config("no fabrics to report on".into()));
-    }
-    if let Some(Err(e)) = config
-        .resonant_nodes
-        .iter()
-        .chain(&config.gpu_resonant_nodes)
-        .map(ResonantNodes::validate)
-        .find(Result::is_err)
-    {
-        return Err(ReportError::Config(e));
-    }
-    for (layout, resolutions) in &config.resolutions {
-        if let Some(&r) = resolutions
-            .iter()
-            .find(|&&r| !(2..=layout.max_resolution()).contains(&r))
-        {
-            return Err(ReportError::Config(format!(
-                "{layout} resolution {r} is outside 2..={}",
-                layout.max_resolution()
-            )));
-        }
-    }
-    std::fs::create_dir_all(out).map_err(|source| ReportError::Io {
-        path: out.to_path_buf(),
-        source,
-    })?;
-    let started = Instant::now();
-    let load_average_start = load_average();
-    let date_utc = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
-    let bake_pool = pool(0)?;
-    let mut fabrics = Vec::new();
-    // The largest thread_frame table of each fabric, for the GPU section.
-    let mut gpu_tables: Vec<Table> = Vec::new();
-    for fabric in &config.fabrics {
-        let mut largest: Option<Table> = None;
-        let report = measure_fabric(config, fabric, &bake_pool, progress, &mut |t| {
-            if t.layout == Layout::DEFAULT
-                && largest.as_ref().is_none_or(|l| l.resolution < t.resolution)
-            {
-                largest = Some(t.clone());
-            }
-        })?;
-        fabrics.push(report);
-        gpu_tables.extend(largest);
-    }
-    let gpu_started = Instant::now();
-    let mut gpu = if config.gpu {
-        gpu::measure(config, &gpu_tables, progress)
-    } else {
-        gpu::GpuSection::not_requested()
-    };
-    gpu.seconds = gpu_started.elapsed().as_secs_f64();
-    let mut report = Report {
-        clothbake_version: env!("CARGO_PKG_VERSION").to_string(),
-        git_commit: git_commit(),
-        command_line,
-        date_utc,
-        elapsed_seconds: 0.0,
-        machine: Machine {
-            cpu_model: cpu_model(),
-            logical_cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
-            bake_threads: bake_pool.current_num_threads(),
-            os: std::env::consts::OS.to_string(),
-            arch: std::env::consts::ARCH.to_string(),
-            load_average_start,
-            load_average_end: load_average(),
-        },
-        config: config.clone(),
-        fabric_names: config.fabrics.iter().map(|f| f.name.clone()).collect(),
-        fabrics,
-        gpu,
-        files: Vec::new(),
-    };
-    report.files = plots::write_all(&report, out)?;
-    report.elapsed_seconds = started.elapsed().as_secs_f64();
-    report.files.push(markdown::FILE_NAME.to_string());
-    report.files.push(JSON_FILE_NAME.to_string());
-    write_file(out, markdown::FILE_NAME, &markdown::render(&report))?;
-    let json = serde_json::to_string_pretty(&report)
-        .map_err(|e| ReportError::Config(format!("cannot serialise the report: {e}")))?;
-    write_file(out, JSON_FILE_NAME, &json)?;
-    Ok(report)
-}
-
-/// The JSON file's name in the output directory.
-pub const JSON_FILE_NAME: &str = "report.json";
-
-fn write_file(out: &Path, name: &str, text: &str) -> Result<(), ReportError> {
-    let path = out.join(name);
-    std::fs::write(&path, text).map_err(|source| ReportError::Io { path, source })
 }
 
 #[cfg(test)]

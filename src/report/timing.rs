@@ -5,13 +5,13 @@
 //! (other load on the machine, clock frequency) as closely as a sequential run can.
 
 use glam::DVec3;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 /// How long evaluations take: the median over samples of the time per evaluation, and the
 /// samples themselves.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EvalTiming {
     /// Median over samples of nanoseconds per evaluation, on one thread.
     pub ns_per_eval: f64,
@@ -22,7 +22,7 @@ pub struct EvalTiming {
 }
 
 /// How long a bake takes: the median of repeated bakes and the repetitions.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BakeTiming {
     /// Median wall-clock seconds of one bake.
     pub seconds: f64,

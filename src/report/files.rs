@@ -1,0 +1,79 @@
+//! The report's files: REPORT.md and report.json written atomically, and report.json read
+//! back, so that REPORT.md can be rendered again from the data without measuring anything
+//! ([`rerender`]).
+
+use super::{Report, ReportError, markdown};
+use crate::measure::accuracy::{SetError, TableError};
+use serde::{Deserialize, Deserializer};
+use std::path::Path;
+
+/// The JSON file's name in the output directory.
+pub const JSON_FILE_NAME: &str = "report.json";
+
+/// Writes `text` to `out/name` atomically: a temporary file beside it, synced, then renamed
+/// over it, so that a reader never sees half a page.
+pub(super) fn write_file(out: &Path, name: &str, text: &str) -> Result<(), ReportError> {
+    let path = out.join(name);
+    let temporary = out.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = std::fs::write(&temporary, text)
+        .and_then(|()| std::fs::File::open(&temporary)?.sync_all())
+        .and_then(|()| std::fs::rename(&temporary, &path));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    result.map_err(|source| ReportError::Io { path, source })
+}
+
+/// Reads `out/report.json`, as a report run wrote it.
+pub fn read(out: &Path) -> Result<Report, ReportError> {
+    let path = out.join(JSON_FILE_NAME);
+    let text = std::fs::read_to_string(&path).map_err(|source| ReportError::Read {
+        path: path.clone(),
+        source,
+    })?;
+    serde_json::from_str(&text).map_err(|source| ReportError::Json { path, source })
+}
+
+/// Renders `out/REPORT.md` again from `out/report.json`, measuring nothing, and writes it
+/// atomically; returns the report read. The plots and report.json are left as they are.
+pub fn rerender(out: &Path) -> Result<Report, ReportError> {
+    let report = read(out)?;
+    write_file(out, markdown::FILE_NAME, &markdown::render(&report))?;
+    Ok(report)
+}
+
+/// serde's view of [`SetError`] for reading: `crate::measure::accuracy` writes its errors but does
+/// not read them, so the report reads them through these mirrors (serde's remote derive,
+/// which checks at compile time that the mirror names every field).
+#[derive(Deserialize)]
+#[serde(remote = "SetError")]
+struct SetErrorDef {
+    relative_rms: f64,
+    max_abs: f64,
+    max_abs_at_value: f64,
+}
+
+/// serde's view of [`TableError`] for reading (see [`SetErrorDef`]).
+#[derive(Deserialize)]
+#[serde(remote = "TableError")]
+struct TableErrorDef {
+    #[serde(with = "SetErrorDef")]
+    uniform: SetError,
+    #[serde(with = "SetErrorDef")]
+    highlight: SetError,
+    #[serde(with = "SetErrorDef")]
+    uniform_above_1deg: SetError,
+    #[serde(with = "SetErrorDef")]
+    uniform_above_3deg: SetError,
+    #[serde(with = "SetErrorDef")]
+    uniform_above_15deg: SetError,
+    #[serde(with = "SetErrorDef")]
+    highlight_above_1deg: SetError,
+    #[serde(with = "SetErrorDef")]
+    highlight_above_3deg: SetError,
+}
+
+/// Reads a [`TableError`] (`#[serde(deserialize_with)]` of the report's points).
+pub(super) fn table_error<'de, D: Deserializer<'de>>(d: D) -> Result<TableError, D::Error> {
+    TableErrorDef::deserialize(d)
+}
