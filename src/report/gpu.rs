@@ -163,7 +163,7 @@ fn measure_on(
     let text = |e: GpuError| e.to_string();
     let scene = Scene::builtin();
     // The shaders are compared on the scene's lights alone: an environment light multiplies
-    // every shader's BRDF work by its sample count (README, "Environment light").
+    // every shader's BRDF work by its sample count (docs/sampling.md#measured).
     let settings = FrameSettings {
         environment_samples: 0,
         ..FrameSettings::from_scene(&scene)
