@@ -15,8 +15,10 @@
 //! - [`measure`]: a table's error against the direct evaluation, on seeded direction pairs.
 //! - [`scene`]: what a scene shows and needs baked (fabrics, camera, lights, mesh, budget).
 //! - [`lighting`]: distant environment light: maps, their mip chain, the built-in studio.
-//! - [`sampling`]: importance sampling of a fabric (CPU; `shaders/sampling.wgsl` mirrors
-//!   it) and of an environment map.
+//! - [`sampling`]: importance sampling of a fabric (CPU;
+//!   `shaders/sampling/fabric_sampler.wgsl` mirrors it) and of an environment map.
+//! - [`shader`]: the one WGSL composer: the registry of `shaders/` and the modules every
+//!   shader is composed of, each file declaring what it requires.
 //! - [`gpu`]: the wgpu runtime core: a device, and tables and the model as GPU BRDFs.
 //! - [`render`]: cloth rendered with a GPU BRDF, headless or into a window; the CPU
 //!   reference of the same view and image error metrics.
@@ -37,6 +39,7 @@ pub mod render;
 pub mod report;
 pub mod sampling;
 pub mod scene;
+pub mod shader;
 pub mod table;
 #[cfg(feature = "runtime")]
 pub mod viewer;

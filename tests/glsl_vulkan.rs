@@ -29,7 +29,7 @@ use std::process::Command;
 const BOUND: f64 = 1e-5;
 /// Pairs per set (uniform and highlight).
 const PAIRS: usize = 4000;
-/// `@workgroup_size` of the kernel (shaders/eval_pairs.wgsl).
+/// `@workgroup_size` of the kernel (shaders/gpu/eval_pairs.wgsl).
 const WORKGROUP_SIZE: u32 = 64;
 
 /// A Vulkan device with a compute queue, and what the test allocates on it.

@@ -1,4 +1,4 @@
-//! The GPU lookup (`shaders/lookup.wgsl` specialised for each table by
+//! The GPU lookup (`shaders/table/lookup.wgsl` specialised for each table by
 //! `clothbake::table::wgsl::lookup_wgsl`, as a `GpuBrdf`, through
 //! `clothbake::gpu::evaluate_pairs`) against the CPU lookup `Table::lookup`, on small baked
 //! tables of every layout and seeded direction pairs.
@@ -34,12 +34,12 @@
 //!    interpolations is added, propagated like the filtering error.
 //!
 //! 4. split_frame evaluates its point masses with the shared f32 sample kernel
-//!    (`shaders/sample.wgsl`) where the CPU uses the f64 model. tests/gpu_direct.rs bounds
+//!    (`shaders/model/tangent_sample.wgsl`) where the CPU uses the f64 model. tests/gpu_direct.rs bounds
 //!    that kernel's relative error by R = 2e-5 + 6·δθh/σ_min, δθh the device's atan2 error
 //!    (3.4e-6 on lavapipe): 5e-4 for satin's σs = 2.5°, the narrowest lobe here. The point
 //!    sums enter both ⟨s⟩ and Q, so F moves by at most 2R relative: 1e-3·|F| is added.
 //!    In the horizon band (a direction below 1°) the sloped segments come from the resonant
-//!    quadrature instead of the table, in f32 on the GPU (`shaders/resonant.wgsl`, the same
+//!    quadrature instead of the table, in f32 on the GPU (`shaders/model/resonant_quadrature.wgsl`, the same
 //!    sample kernel) and f64 on the CPU: no interpolation error, and the same 1e-3·|F|
 //!    covers the kernel (tests/gpu_resonant.rs measures at most 1.4e-4 relative where
 //!    |F| > 1e-4).

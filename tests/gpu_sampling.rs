@@ -1,4 +1,4 @@
-//! The WGSL fabric sampler (shaders/sampling.wgsl) on the device wgpu finds (lavapipe in
+//! The WGSL fabric sampler (shaders/sampling/fabric_sampler.wgsl) on the device wgpu finds (lavapipe in
 //! CI): its draws follow the CPU sampler's density (chi-square, every built-in fabric, the
 //! eight outgoing directions of the CPU test), and the density it returns is the CPU's.
 //!

@@ -1,4 +1,4 @@
-//! The environment light of the renderer (shaders/render.wgsl, `render_environment_light`):
+//! The environment light of the renderer (shaders/render/renderer.wgsl, `render_environment_light`):
 //! the white furnace (radiance 1 everywhere, lights off: each pixel is the fabric's
 //! directional albedo at its wo) and the studio environment against the CPU reference, for
 //! every built-in fabric, on the device wgpu finds (lavapipe in CI; printed).

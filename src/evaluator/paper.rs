@@ -1,5 +1,5 @@
 //! `paper[:N]`: the paper's renderer, N stratified tangent samples per thread
-//! (docs/model.md#paper-mode), on the CPU and in the shader (`shaders/direct.wgsl`).
+//! (docs/model.md#paper-mode), on the CPU and in the shader (`shaders/gpu/paper.wgsl`).
 
 use super::{
     EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, ModelEvaluation,

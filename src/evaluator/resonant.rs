@@ -1,6 +1,6 @@
 //! `resonant[:S/V/B]`: the resonant quadrature (docs/model.md#resonant-quadrature) with S
 //! Gauss–Legendre nodes per segment on the surface lobe, V on the volume lobe and B for
-//! ⟨P⟩ and the kd term; on the CPU and in the shader (`shaders/resonant.wgsl`).
+//! ⟨P⟩ and the kd term; on the CPU and in the shader (`shaders/model/resonant_quadrature.wgsl`).
 
 use super::{
     EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, ModelEvaluation,

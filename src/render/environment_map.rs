@@ -1,5 +1,5 @@
 //! The environment light on the GPU: an [`Environment`]'s mip chain as a filterable f16
-//! texture, and the render pass's lighting group (@group(2) of shaders/render.wgsl): that
+//! texture, and the render pass's lighting group (@group(2) of shaders/render/renderer.wgsl): that
 //! texture, its trilinear sampler and the fabric's importance sampler
 //! ([`crate::gpu::GpuSampler`]) that filtered importance sampling draws from.
 

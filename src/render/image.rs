@@ -58,7 +58,7 @@ fn quantise(v: f32) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
-/// The render shader's tone mapping (`render_tonemap` in shaders/render.wgsl): radiance
+/// The render shader's tone mapping (`render_tonemap` in shaders/render/renderer.wgsl): radiance
 /// times exposure, the ACES filmic fit x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14) clamped to
 /// [0, 1], then the sRGB transfer function. Returns display values in [0, 1].
 pub fn tonemap(radiance: [f32; 3], exposure: f32) -> [f32; 3] {

@@ -1,7 +1,7 @@
 //! Importance sampling of a fabric: directions `wi` drawn with a density close to
 //! `F(wi, wo)` (docs/model.md#the-patch-transfer-f) for a given `wo`, with that density `pdf(wi | wo)` (per unit solid
 //! angle) evaluable for any pair, on the CPU ([`Sampler`]) and in WGSL
-//! (`shaders/sampling.wgsl`, the same layout, see [`Sampler::wgsl_constants`]).
+//! (`shaders/sampling/fabric_sampler.wgsl`, the same layout, see [`Sampler::wgsl_constants`]).
 //!
 //! The sampler is tabulated, as Dupuy and Jakob (2018) tabulate measured BRDFs: the model's
 //! lobes are too many and too narrow (satin's γs = 2.5°, masking kinks, two threads with
@@ -354,7 +354,10 @@ impl Sampler {
         (pdf > 0.0).then_some(Sample { wi, pdf })
     }
 
-    /// The WGSL constants `shaders/sampling.wgsl` expects (the layout's sizes).
+    /// The WGSL constants `shaders/sampling/fabric_sampler.wgsl` requires (the layout's sizes):
+    /// the generated module [`crate::shader::SAMPLER_CONSTANTS`]. That file holds
+    /// `sampling_sample`, `sampling_pdf`, `sampling_hammersley` and the helpers they need,
+    /// without a binding (the module that requires it declares `sampling_data`).
     pub fn wgsl_constants() -> String {
         use crate::table::wgsl::wgsl_f32;
         format!(
@@ -468,11 +471,6 @@ pub fn albedo_curve(
         })
         .collect()
 }
-
-/// `shaders/sampling.wgsl`: `sampling_sample`, `sampling_pdf`, `sampling_hammersley` and the
-/// helpers they need, without a binding (the includer declares `sampling_data` and prepends
-/// [`Sampler::wgsl_constants`]).
-pub const SAMPLING_WGSL: &str = include_str!("../../shaders/sampling.wgsl");
 
 /// Rows (outgoing elevations) of an [`AlbedoMap`]: row i at elevation 90°·(i/(rows − 1))^1.5,
 /// dense at the horizon where the albedo changes fastest (as the sampler's nodes), row 0 at

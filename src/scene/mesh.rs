@@ -22,7 +22,7 @@ pub const MAX_MESH_TRIANGLES: usize = 1 << 23;
 /// Largest OBJ file read.
 pub const MAX_OBJ_FILE_BYTES: u64 = 512 << 20;
 
-/// One vertex as the render shader reads it (`shaders/render.wgsl`, `VertexIn`).
+/// One vertex as the render shader reads it (`shaders/render/renderer.wgsl`, `VertexIn`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {

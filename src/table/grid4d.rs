@@ -76,10 +76,6 @@ impl LayoutUnit for Grid4d {
             n: resolution as usize,
         })
     }
-
-    fn wgsl_source(&self) -> &'static str {
-        include_str!("../../shaders/grid4d.wgsl")
-    }
 }
 
 /// The lookup of a grid4d table of N×N octahedral texels per direction.

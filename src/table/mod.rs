@@ -64,9 +64,8 @@ pub trait LayoutUnit: Sync {
     /// The lookup of a table of `fabric` at `resolution` (its geometry; texels stay in the
     /// planes).
     fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup>;
-    /// The layout's WGSL file (`shaders/<name>.wgsl`), which defines
-    /// `cloth_<name>_brdf(wi, wo)`.
-    fn wgsl_source(&self) -> &'static str;
+    // The layout's WGSL file is `shaders/table/<name>.wgsl`, registered in
+    // `crate::shader::FILES` as `table/<name>`; it defines `cloth_<name>_brdf(wi, wo)`.
 }
 
 /// The lanes of a batch lookup's coordinates ([`fast_math::Lanes`]): eight f32, one AVX
@@ -97,9 +96,14 @@ pub trait TableLookup: Send + Sync + fmt::Debug + Any {
     ) -> [[f32; 3]; BATCH_LANES] {
         std::array::from_fn(|k| self.terms_f32(planes, wi[k], wo[k]))
     }
-    /// The layout's part of the generated WGSL block: the constants and functions its
-    /// WGSL file expects, as literals, with the choices of `options`.
+    /// The layout's part of the generated module `table_constants`: the constants and
+    /// functions its WGSL file expects, as literals, with the choices of `options`.
     fn wgsl_constants(&self, options: &LookupShaderOptions) -> String;
+    /// Further generated modules that the layout's WGSL file requires by name (see
+    /// `crate::shader`), as (name, source); none by default.
+    fn wgsl_modules(&self, _options: &LookupShaderOptions) -> Vec<(&'static str, String)> {
+        Vec::new()
+    }
     /// The textures the WGSL file binds, built from the planes.
     fn textures(&self, planes: &[Plane]) -> Vec<TextureData>;
     /// How far the layout's WGSL lookup may be from the f64 lookup `cpu` (= F by

@@ -50,14 +50,14 @@
 //! four table axes at once; pairs below 1° (about 3.5% of uniform pairs) carried 82–94% of
 //! the highlight squared error of crepe, both satins and shot silk. The CPU's f32 lookup
 //! evaluates the band in f64 (`ThreadModel::means`), the WGSL by the shared kernel
-//! (`shaders/resonant.wgsl`, specialised by [`super::resonant_kernel`]) in f32.
+//! (`shaders/model/resonant_quadrature.wgsl`, specialised by [`super::resonant_kernel`]) in f32.
 //!
 //! # GPU textures
 //! The sloped tables as thread_frame arranges them (bindings 4 and 5, 3D, only for threads
 //! that have one) and their masking planes in one array texture (binding 6, layer = the
 //! thread's position among those with a table). Per light: two filtered fetches per sloped
 //! table and one per masking plane (0–6 in all: linen and velvet 6, crepe, satin and shot
-//! silk 3), plus one evaluation of the shared sample kernel (`shaders/sample.wgsl`) per
+//! silk 3), plus one evaluation of the shared sample kernel (`shaders/model/tangent_sample.wgsl`) per
 //! point mass (linen and velvet 0, crepe 3, satin 4, satin back 5, shot silk 3);
 //! in the horizon band, the resonant kernel instead of the sloped tables' fetches. A GPU
 //! skips that branch where no lane of a warp takes it; a software rasteriser (lavapipe)
@@ -187,18 +187,6 @@ impl LayoutUnit for SplitFrame {
 
     fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup> {
         Arc::new(Geometry::new(fabric, resolution))
-    }
-
-    fn wgsl_source(&self) -> &'static str {
-        concat!(
-            include_str!("../../shaders/thread_frame_sample.wgsl"),
-            "\n",
-            include_str!("../../shaders/sample.wgsl"),
-            "\n",
-            include_str!("../../shaders/resonant.wgsl"),
-            "\n",
-            include_str!("../../shaders/split_frame.wgsl")
-        )
     }
 }
 
@@ -601,15 +589,11 @@ impl TableLookup for Geometry {
 
     fn wgsl_constants(&self, options: &LookupShaderOptions) -> String {
         let mut out = coverage_wgsl(self.coverage, self.gap);
-        // shaders/resonant.wgsl is part of the layout's source and needs the rules' constants
-        // even where no pair calls it (no horizon band).
-        out += "// The resonant quadrature of the sloped segments in the horizon band.\n";
-        out += &resonant_rules_wgsl(&self.options, HORIZON_BAND_NODES);
         let mut any = false;
         for (j, _) in self.tabulated() {
             let _ = writeln!(
                 out,
-                "@group(0) @binding({}) var cloth_split_table{}: texture_3d<f32>;",
+                "@group(CLOTH_BRDF_GROUP) @binding({}) var cloth_split_table{}: texture_3d<f32>;",
                 4 + j,
                 j + 1
             );
@@ -617,12 +601,23 @@ impl TableLookup for Geometry {
         }
         if any {
             out += "// ⟨P⟩ of the sloped segments, one layer per tabulated thread.\n\
-                    @group(0) @binding(6) var cloth_split_masking: texture_2d_array<f32>;\n";
+                    @group(CLOTH_BRDF_GROUP) @binding(6) var cloth_split_masking: \
+                    texture_2d_array<f32>;\n";
         }
         for j in 0..2 {
             out += &self.thread_wgsl(j, options.horizon_band);
         }
         out
+    }
+
+    /// shaders/model/resonant_quadrature.wgsl, which the layout's file requires, needs the
+    /// rules' constants even where no pair calls it (no horizon band).
+    fn wgsl_modules(&self, _options: &LookupShaderOptions) -> Vec<(&'static str, String)> {
+        let rules = format!(
+            "// The resonant quadrature of the sloped segments in the horizon band.\n{}",
+            resonant_rules_wgsl(&self.options, HORIZON_BAND_NODES)
+        );
+        vec![(crate::shader::RESONANT_RULES, rules)]
     }
 
     fn textures(&self, planes: &[Plane]) -> Vec<TextureData> {

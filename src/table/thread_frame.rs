@@ -144,14 +144,6 @@ impl LayoutUnit for ThreadFrame {
     fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup> {
         Arc::new(Geometry::new(fabric, resolution))
     }
-
-    fn wgsl_source(&self) -> &'static str {
-        concat!(
-            include_str!("../../shaders/thread_frame_sample.wgsl"),
-            "\n",
-            include_str!("../../shaders/thread_frame.wgsl")
-        )
-    }
 }
 
 /// Texels of the ⟨P⟩ table per axis.
@@ -414,7 +406,7 @@ impl ThreadGeometry {
 
     /// Where `L::WIDTH` pairs (`wi`, `wo` of that length) fall in this thread's tables: the
     /// first half of [`Self::sample`] in f32 (the arithmetic of
-    /// `shaders/thread_frame_sample.wgsl`, with [`fast_math`] for atan2 and asin; `fast` are
+    /// `shaders/table/thread_geometry.wgsl`, with [`fast_math`] for atan2 and asin; `fast` are
     /// this thread's axes in f32, the 4D axes, then the masking axis), lane by lane the
     /// same operations: one pair in `f32`, or eight in SIMD registers (`wide::f32x8`), which
     /// pays because the angles of a lookup are chains of dependent divisions and
@@ -498,7 +490,7 @@ impl ThreadGeometry {
     }
 
     /// The WGSL function `name(wi, wo) -> vec4<f32>` sampling this thread
-    /// (`cloth_sample_thread` of `shaders/thread_frame_sample.wgsl`: reflection, transmission,
+    /// (`cloth_sample_thread` of `shaders/table/thread_geometry.wgsl`: reflection, transmission,
     /// ⟨P⟩, cos²θd') from the 3D texture `table` and layer `layer` of the masking array
     /// texture `masking`, with its frame and axes as literals.
     pub fn wgsl_function(&self, name: &str, table: &str, masking: &str, layer: usize) -> String {

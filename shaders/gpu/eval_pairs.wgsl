@@ -1,7 +1,10 @@
-// Evaluates `cloth_brdf` (defined by the GpuBrdf module this file is appended to, all of
-// whose bindings are in @group(0)) for a list of direction pairs, one per invocation:
+// Evaluates `cloth_brdf` (defined by the generated module `brdf`: a GpuBrdf's WGSL, all of
+// whose bindings are in @group(0), or a table's lookup) for a list of direction pairs, one per invocation:
 // `eval_pairs[2k]` = wi, `eval_pairs[2k + 1]` = wo (xyz, unit, local cloth frame),
-// `eval_results[k]` = F(wi, wo) (rgb, a = 0). See `evaluate_pairs` in src/gpu/mod.rs.
+// `eval_results[k]` = F(wi, wo) (rgb, a = 0). See `evaluate_pairs` in src/gpu/mod.rs and
+// src/table/shader_language.rs.
+//
+// requires: brdf
 
 @group(1) @binding(0) var<storage, read> eval_pairs: array<vec4<f32>>;
 @group(1) @binding(1) var<storage, read_write> eval_results: array<vec4<f32>>;

@@ -1,12 +1,14 @@
 // Direct evaluation of the patch transfer F(wi, wo) of docs/model.md in f32, paper mode: the
 // curve mean ⟨x⟩_j of each thread is the weighted sum over the tangent nodes that the CPU's
 // `curve_pieces(thread, options, Integration::Paper(N))` produces (uploaded by
-// src/gpu/direct.rs as (cos α, sin α, weight)), each sample evaluated by sample.wgsl (which
-// src/gpu/direct.rs prepends). Mirrors `ThreadModel::means` and `Patch::terms` of
+// src/gpu/direct.rs, `GpuDirect`, as (cos α, sin α, weight)), each sample evaluated by
+// model/tangent_sample.wgsl (required below). Mirrors `ThreadModel::means` and `Patch::terms` of
 // src/model/patch.rs. Paper-mode nodes are single points, so the interval clipping of the
 // direct rule never applies. tests/gpu_direct.rs bounds the difference to the CPU.
 //
 // Every top-level name starts with `cloth_`/`Cloth` (the `GpuBrdf` naming contract).
+//
+// requires: model/tangent_sample
 
 // One thread family (`DirectThread` in src/gpu/direct.rs).
 struct ClothDirectThread {
@@ -32,9 +34,9 @@ struct ClothDirectParams {
     misc: vec4<f32>,
 }
 
-@group(0) @binding(0) var<uniform> cloth_direct: ClothDirectParams;
+@group(CLOTH_BRDF_GROUP) @binding(0) var<uniform> cloth_direct: ClothDirectParams;
 // Tangent nodes of both threads: (cos α, sin α, weight, 0); weights of a thread sum to 1.
-@group(0) @binding(1) var<storage, read> cloth_direct_nodes: array<vec4<f32>>;
+@group(CLOTH_BRDF_GROUP) @binding(1) var<storage, read> cloth_direct_nodes: array<vec4<f32>>;
 
 // `ThreadModel::means` of thread j: (⟨reflection⟩, ⟨transmission⟩, ⟨P⟩).
 fn cloth_direct_means(j: u32, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {

@@ -1,8 +1,10 @@
 // Layout grid4d: the lookup of src/table/grid4d.rs (module doc and `lookup_terms`,
-// src/table/octahedral.rs), after shaders/lookup.wgsl. Texture arrangement:
-// `grid4d::textures`. The generated block defines `CLOTH_GRID_N` (u32, N).
+// src/table/octahedral.rs), after shaders/table/lookup.wgsl. Texture arrangement:
+// `grid4d::textures`. The generated `table_constants` define `CLOTH_GRID_N` (u32, N).
+//
+// requires: table/lookup, table_constants
 
-@group(0) @binding(7) var cloth_grid4d_table: texture_2d_array<f32>;
+@group(CLOTH_BRDF_GROUP) @binding(7) var cloth_grid4d_table: texture_2d_array<f32>;
 
 // `octahedral::encode`: texture coordinates in [0, 1]² of a direction with w.z ≥ 0.
 fn cloth_octahedral_encode(w: vec3<f32>) -> vec2<f32> {

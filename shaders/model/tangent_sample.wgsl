@@ -1,8 +1,9 @@
 // One tangent sample of one thread family in f32: `ThreadModel::pair_frame` and
 // `ThreadModel::sample` of src/model/patch.rs (and `fresnel_dielectric` of
-// src/model/lobes.rs), shared by the shaders that evaluate the model itself (direct.wgsl,
-// paper mode; resonant.wgsl, the resonant quadrature), as both CPU rules share
-// `ThreadModel::sample`. src/gpu prepends it to those modules.
+// src/model/lobes.rs), shared by the shaders that evaluate the model itself (gpu/paper.wgsl,
+// paper mode; model/resonant_quadrature.wgsl, the resonant quadrature; split_frame's point
+// masses), as both CPU rules share `ThreadModel::sample`. Those modules require it (the
+// composer, src/shader/mod.rs, writes it before them).
 //
 // Where the CPU's f64 formulas lose their accuracy in f32, mathematically identical forms
 // that keep it are used instead: cos²θd near θd → ±π/2 (both directions near ±t), 1 − Fr

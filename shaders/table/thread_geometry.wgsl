@@ -1,9 +1,12 @@
 // One thread tabulated in its resonant frame: the f32 lookup of a `ThreadGeometry` of
 // src/table/thread_frame.rs (`ThreadGeometry::coordinates`, `ThreadGeometry::sample`), after
-// shaders/lookup.wgsl. Axes and warps: src/table/axis.rs (`Warp::unit`, `Axis::locate`).
-// Used by the layouts that store threads this way (thread_frame.wgsl, split_frame.wgsl);
-// their generated block defines `cloth_threadJ` functions calling `cloth_thread_coordinates`,
-// the warp functions below with literal parameters, and `cloth_sample_thread`.
+// shaders/table/lookup.wgsl (its sampler). Axes and warps: src/table/axis.rs (`Warp::unit`,
+// `Axis::locate`). Required by the layouts that store threads this way (thread_frame.wgsl,
+// split_frame.wgsl); their generated `table_constants` define `cloth_threadJ` functions
+// calling `cloth_thread_coordinates`, the warp functions below with literal parameters, and
+// `cloth_sample_thread`.
+//
+// requires: table/lookup
 
 // The warps of `Warp::unit` followed by the clamped texel coordinate of `Axis::locate`,
 // g = clamp(x·(N − 1), 0, N − 1) (texel i's centre at g = i), with the constant factors

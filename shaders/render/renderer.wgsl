@@ -1,8 +1,9 @@
-// The cloth render pass (src/render/mod.rs): appended to a GpuBrdf's WGSL, which defines
-// `cloth_brdf(wi, wo)` = F(wi, wo) (docs/model.md) in the local cloth frame with its bindings in
-// @group(0), and to the fabric sampler's functions (shaders/sampling.wgsl). This file's own
-// resources are in @group(1) (the frame) and @group(2) (the environment light); its names
-// avoid the `cloth_` and `sampling_` prefixes of those modules.
+// The cloth render pass (src/render/renderer.rs): after a GpuBrdf's WGSL (the generated module
+// `brdf`), which defines `cloth_brdf(wi, wo)` = F(wi, wo) (docs/model.md) in the local cloth
+// frame with its bindings in @group(0), and the fabric sampler's functions
+// (shaders/sampling/fabric_sampler.wgsl). This file's own resources are in @group(1) (the
+// frame) and @group(2) (the environment light, and the sampler's data); its names avoid the
+// `cloth_` and `sampling_` prefixes of those modules.
 //
 // Per pixel: the thread frame (t = thread 1 along u, b = n × t, n) from the interpolated
 // vertex frame, re-orthonormalised; wi (to each light) and wo (to the eye) in that frame;
@@ -16,6 +17,8 @@
 // (n is flipped when n·wo < 0, so wo.z ≥ 0 always; t is kept, so the flipped frame is still
 // right-handed with y = n × t). Lights on the other side of the cloth give nothing (wi.z ≤ 0:
 // the model's one-sided patch).
+//
+// requires: brdf, sampling/fabric_sampler
 
 // One light: vector.w = 0: directional, vector.xyz the unit direction towards it;
 // vector.w = 1: point, vector.xyz its position. power.rgb = colour·irradiance (directional)

@@ -1,18 +1,20 @@
 // Layout thread_frame: the lookup of src/table/thread_frame.rs (module doc,
-// `Geometry::lookup_terms`), after shaders/lookup.wgsl and shaders/thread_frame_sample.wgsl
-// (each thread's coordinates and interpolation). Texture arrangement:
-// `thread_frame::textures`.
+// `Geometry::lookup_terms`), after shaders/table/lookup.wgsl and
+// shaders/table/thread_geometry.wgsl (each thread's coordinates and interpolation). Texture
+// arrangement: `thread_frame::textures`.
 //
-// The generated block defines `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap), and
+// requires: table/lookup, table/thread_geometry, table_constants
+//
+// The generated `table_constants` define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap), and
 // `cloth_thread1(wi, wo)`, `cloth_thread2(wi, wo)` -> vec4<f32> (`Geometry::sample_thread`:
 // reflection, transmission, ⟨P⟩, cos²θd'), each a few lines calling
 // `cloth_thread_coordinates`, the warp functions below with literal parameters, and
 // `cloth_sample_thread`.
 
-@group(0) @binding(4) var cloth_thread1_table: texture_3d<f32>;
-@group(0) @binding(5) var cloth_thread2_table: texture_3d<f32>;
+@group(CLOTH_BRDF_GROUP) @binding(4) var cloth_thread1_table: texture_3d<f32>;
+@group(CLOTH_BRDF_GROUP) @binding(5) var cloth_thread2_table: texture_3d<f32>;
 // ⟨P⟩ of thread j in layer j − 1: column βi, row βo.
-@group(0) @binding(6) var cloth_masking_table: texture_2d_array<f32>;
+@group(CLOTH_BRDF_GROUP) @binding(6) var cloth_masking_table: texture_2d_array<f32>;
 
 // `Geometry::lookup_terms`: (reflection, transmission1, transmission2), divided by Q.
 fn cloth_thread_frame_terms(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {

@@ -1,8 +1,10 @@
-// Compute entry points over the fabric sampler (shaders/sampling.wgsl, appended after it),
-// one invocation per pair, with the buffers of `clothbake::gpu::run_pairs` (as
-// eval_pairs.wgsl): `sample_draws_main` reads (wo, u) and writes (wi, pdf) as
+// Compute entry points over the fabric sampler (shaders/sampling/fabric_sampler.wgsl), one
+// invocation per pair, with the buffers of `clothbake::gpu::run_pairs` (as
+// gpu/eval_pairs.wgsl): `sample_draws_main` reads (wo, u) and writes (wi, pdf) as
 // `sampling_sample`; `sample_pdf_main` reads (wo, wi) and writes (pdf, 0, 0, 0). For tests
 // and measurements (src/gpu/sampler.rs).
+//
+// requires: sampling/fabric_sampler
 
 @group(0) @binding(0) var<storage, read> sampling_data: array<f32>;
 @group(1) @binding(0) var<storage, read> eval_pairs: array<vec4<f32>>;

@@ -5,23 +5,26 @@
 // `ThreadModel::sample`/`pair_frame` of src/model/patch.rs.
 //
 // This file is a template: src/table/resonant_kernel.rs generates, per fabric and node
-// counts, the constants it names (`CLOTH_RESONANT_*`: thresholds from the Rust constants, the
-// Gauss–Legendre rules computed in f64 and rounded, the threads' parameters) and the
-// functions `cloth_resonant_means_0/1`, which call `cloth_resonant_point` and
-// `cloth_resonant_segment` once per curve piece of the thread (the fabric's curve unrolled).
-// Two shaders use it: the resonant quadrature's own (src/gpu/resonant.rs, with
-// shaders/resonant_brdf.wgsl) and split_frame's lookup, for the sloped segments of pairs in
-// its horizon band (src/table/split_frame.rs).
+// counts, the constants it names (`CLOTH_RESONANT_*`: thresholds from the Rust constants and
+// the Gauss–Legendre rules computed in f64 and rounded, the generated module `resonant_rules`
+// that this file requires) and the functions `cloth_resonant_means_0/1` (with the threads'
+// parameters), which call `cloth_resonant_point` and `cloth_resonant_segment` once per curve
+// piece of the thread (the fabric's curve unrolled). Two shaders use it: the resonant
+// quadrature's own (src/gpu/resonant.rs, with shaders/gpu/resonant.wgsl) and split_frame's
+// lookup, for the sloped segments of pairs in its horizon band (src/table/split_frame.rs);
+// each generates the `cloth_resonant_means_j` it calls.
 //
 // Where f32 would lose what f64 keeps:
 // - Φ in the lower tail comes from erfc of a positive argument (relative accuracy ~1e-7
 //   down to Φ ≈ 1e-38), and the segment is reflected to lie in the lower tail as on the
 //   CPU; a node past the median is placed from the complement 1 − t = Φ(−b) + span·(1 − x),
 //   so Φ⁻¹ never sees a p near 1, where f32 has no digits left.
-// - The sample itself is sample.wgsl's (which both shaders include before this file), with its
-//   f32 forms of cos²θd, 1 − Fr and the angles φd, ψd.
+// - The sample itself is model/tangent_sample.wgsl's (required below), with its f32 forms of
+//   cos²θd, 1 − Fr and the angles φd, ψd.
 //
 // Every top-level name starts with `cloth_`/`Cloth`/`CLOTH_` (the `GpuBrdf` naming contract).
+//
+// requires: model/tangent_sample, resonant_rules
 
 // One thread family (a literal in each generated `cloth_resonant_means_j`).
 struct ClothResonantThread {
@@ -183,7 +186,7 @@ fn cloth_resonant_theta_h(p: ClothResonantPair, alpha: f32) -> vec2<f32> {
     return vec2<f32>(0.5 * (atan2(si, perp_i) + atan2(so, perp_o)), 0.5 * (ki + ko));
 }
 
-// `ThreadModel::sample` at α (sample.wgsl): (P, reflection, volume, diffuse).
+// `ThreadModel::sample` at α (model/tangent_sample.wgsl): (P, reflection, volume, diffuse).
 fn cloth_resonant_sample(thread: ClothResonantThread, p: ClothResonantPair, alpha: f32) -> vec4<f32> {
     var material: ClothSampleMaterial;
     material.lobes = thread.lobes;

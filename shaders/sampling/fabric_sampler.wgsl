@@ -1,12 +1,16 @@
-// The fabric sampler in f32, mirroring `clothbake::sampling::Sampler` (src/sampling.rs, whose
-// module doc describes the layout): directions wi drawn for a given wo with a density close
-// to F(wi, wo), and that density pdf(wi | wo) per unit solid angle, in the local cloth frame.
+// The fabric sampler in f32, mirroring `clothbake::sampling::Sampler` (src/sampling/mod.rs,
+// whose module doc describes the layout): directions wi drawn for a given wo with a density
+// close to F(wi, wo), and that density pdf(wi | wo) per unit solid angle, in the local cloth
+// frame.
 //
-// Expects, from the including module: the constants of `Sampler::wgsl_constants`
-// (SAMPLING_ELEVATION_NODES, SAMPLING_AZIMUTH_NODES, SAMPLING_ROWS, SAMPLING_COLUMNS,
-// SAMPLING_NODE_STRIDE, SAMPLING_COSINE_SHARE) and the sampler's data (`Sampler::data`) as
-// `sampling_data: array<f32>` in a read-only storage binding. Top-level names start with
-// `sampling_` or `Sampling`.
+// Requires the generated module `sampler_constants`: the constants of
+// `Sampler::wgsl_constants` (SAMPLING_ELEVATION_NODES, SAMPLING_AZIMUTH_NODES, SAMPLING_ROWS,
+// SAMPLING_COLUMNS, SAMPLING_NODE_STRIDE, SAMPLING_COSINE_SHARE). Expects from the module
+// that requires it the sampler's data (`Sampler::data`) as `sampling_data: array<f32>` in a
+// read-only storage binding (its group and binding are that module's choice). Top-level
+// names start with `sampling_` or `Sampling`.
+//
+// requires: sampler_constants
 
 const SAMPLING_PI: f32 = 3.14159265358979;
 const SAMPLING_TAU: f32 = 6.28318530717959;

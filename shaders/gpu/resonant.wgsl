@@ -1,7 +1,11 @@
-// The resonant quadrature's `cloth_brdf` (src/gpu/resonant.rs), after shaders/resonant.wgsl
-// and the generated constants `CLOTH_RESONANT_COVERAGE`, `CLOTH_RESONANT_GAP` and
-// `CLOTH_RESONANT_ALBEDO_0/1`. Apart from the kernel, which split_frame tables also use
-// (their horizon band), because a table lookup defines a `cloth_brdf` of its own.
+// The resonant quadrature's `cloth_brdf` (src/gpu/resonant.rs), after
+// shaders/model/resonant_quadrature.wgsl and the generated module `resonant_fabric`: the
+// constants `CLOTH_RESONANT_COVERAGE`, `CLOTH_RESONANT_GAP` and `CLOTH_RESONANT_ALBEDO_0/1`
+// and the functions `cloth_resonant_means_0/1`. Apart from the kernel, which split_frame
+// tables also use (their horizon band), because a table lookup defines a `cloth_brdf` of its
+// own.
+//
+// requires: model/resonant_quadrature, resonant_fabric
 
 // `Patch::eval`: F = [a1⟨s⟩1 + a2⟨s⟩2]/Q, Q = a1⟨P⟩1 + a2⟨P⟩2 + gap·wo.z; 0 below the
 // horizon and where Q = 0.
