@@ -7,7 +7,7 @@
 //! speed-up from one to two threads, are in `clothbake report`.
 
 use clothbake::bake::bake;
-use clothbake::fabric_file::FabricSet;
+use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::table::Layout;
 use criterion::{
     BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group, criterion_main,

@@ -11,7 +11,7 @@
 //! counts and times are set so that the whole run takes about two minutes.
 
 use clothbake::bake::bake;
-use clothbake::fabric_file::FabricSet;
+use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::model::{Integration, Patch, ResonantNodes};
 use clothbake::table::Layout;
 use criterion::{

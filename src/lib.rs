@@ -1,42 +1,37 @@
 //! clothbake: the Sadeghi et al. 2013 microcylinder cloth model, evaluated directly and
-//! baked into lookup tables for real-time shading.
+//! baked into lookup tables for real-time shading. `docs/architecture.md` is the map.
 //!
 //! [`gpu`], [`render`], [`report`] and [`viewer`] (and wgpu) come with the default cargo
 //! feature `runtime`; without it the crate is the core, for an engine with its own wgpu.
 //!
-//! - [`model`]: the physics of MODEL.md, pure maths.
+//! - [`model`]: the physics of `docs/model.md`, pure maths, no I/O.
 //! - [`table`]: table layouts and the lookup that GPU shaders mirror.
-//! - [`bake`]: integrates the model into a table (rayon); [`bake_job`]: the `bake` command's
-//!   choice of resolution, manifest and files.
-//! - [`table_file`]: tables as EXR files, written atomically, read as untrusted input.
-//! - [`accuracy`]: a table's error against the direct evaluation.
-//! - [`scene`], [`manifest`]: what a scene needs baked, and what was baked from what.
-//! - [`gpu`]: the wgpu runtime core: a device, and tables and the direct model as GPU BRDFs.
-//! - [`render`]: cloth rendered with a GPU BRDF (table lookup or direct), headless or into a
-//!   window; the CPU reference of the same view and image error metrics.
-//! - [`fabric_file`]: reading fabric files (TOML), the built-in measured fabrics.
-//! - [`sampling`]: importance sampling of a fabric: directions with a density close to F,
-//!   and that density (CPU; `shaders/sampling.wgsl` mirrors it).
-//! - [`environment`]: distant environment lighting: equirectangular `.hdr`/`.exr` maps read as
-//!   untrusted input, the built-in studio and white furnace, a prefiltered mip chain and the
-//!   CPU mirror of its GPU sampling.
-//! - [`direction_sets`]: the seeded direction pairs on which errors are measured.
-//! - [`eval_stream`]: the JSON-lines evaluation interface of `clothbake eval`.
-//! - [`report`]: `clothbake report`, speed against error for every fabric (Markdown, JSON,
-//!   plots).
-//! - [`viewer`]: `clothbake view`, the interactive window (winit): lookup or direct shading.
+//! - [`bake`]: integrates the model into a table (rayon); [`bake::job`]: the `bake`
+//!   command's choice of layout and resolution, its manifest and files.
+//! - [`formats`]: files read and written (table EXR, fabric TOML, environment maps, JSON
+//!   lines), all read as untrusted input.
+//! - [`evaluator`]: the ways F is evaluated (direct, paper, resonant, a table), one unit each
+//!   behind one interface and registry, with one spelling on every command.
+//! - [`measure`]: a table's error against the direct evaluation, on seeded direction pairs.
+//! - [`scene`]: what a scene shows and needs baked (fabrics, camera, lights, mesh, budget).
+//! - [`lighting`]: distant environment light: maps, their mip chain, the built-in studio.
+//! - [`sampling`]: importance sampling of a fabric (CPU;
+//!   `shaders/sampling/fabric_sampler.wgsl` mirrors it) and of an environment map.
+//! - [`shader`]: the one WGSL composer: the registry of `shaders/` and the modules every
+//!   shader is composed of, each file declaring what it requires.
+//! - [`gpu`]: the wgpu runtime core: a device, and tables and the model as GPU BRDFs.
+//! - [`render`]: cloth rendered with a GPU BRDF, headless or into a window; the CPU
+//!   reference of the same view and image error metrics.
+//! - [`report`]: `clothbake report`, speed against error for every fabric.
+//! - [`viewer`]: `clothbake view`, the interactive window (winit).
 
-pub mod accuracy;
 pub mod bake;
-pub mod bake_job;
-pub mod direction_sets;
-pub mod environment;
-pub mod eval_stream;
-pub mod fabric_file;
+pub mod evaluator;
+pub mod formats;
 #[cfg(feature = "runtime")]
 pub mod gpu;
-pub mod manifest;
-pub mod mesh;
+pub mod lighting;
+pub mod measure;
 pub mod model;
 #[cfg(feature = "runtime")]
 pub mod render;
@@ -44,7 +39,7 @@ pub mod render;
 pub mod report;
 pub mod sampling;
 pub mod scene;
+pub mod shader;
 pub mod table;
-pub mod table_file;
 #[cfg(feature = "runtime")]
 pub mod viewer;

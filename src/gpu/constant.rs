@@ -12,15 +12,12 @@ pub struct GpuConstant {
     bind_group: wgpu::BindGroup,
 }
 
-const CONSTANT_WGSL: &str = "\
-// Constant F = 1/π above the horizon (clothbake::gpu::GpuConstant): the frame cost floor.
-fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
-    if wi.z <= 0.0 || wo.z <= 0.0 {
-        return vec3<f32>(0.0);
-    }
-    return vec3<f32>(0.31830987);
+/// The WGSL of [`GpuConstant`] (`shaders/gpu/constant.wgsl`).
+pub fn constant_wgsl() -> String {
+    crate::shader::Composer::new()
+        .compose(&["gpu/constant"])
+        .expect("the constant shader composes (validated in the tests)")
 }
-";
 
 impl GpuConstant {
     /// The constant BRDF, with an empty group 0.
@@ -35,7 +32,7 @@ impl GpuConstant {
 
 impl GpuBrdf for GpuConstant {
     fn wgsl(&self) -> String {
-        CONSTANT_WGSL.to_string()
+        constant_wgsl()
     }
 
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {

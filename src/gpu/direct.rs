@@ -1,6 +1,6 @@
-//! [`GpuDirect`]: the model of MODEL.md evaluated in the shader (`shaders/direct.wgsl`) in
-//! f32, in paper mode: N stratified tangent samples per thread, the same nodes and weights as
-//! the CPU's `Patch::new(fabric, Integration::Paper(N))`.
+//! [`GpuDirect`]: the model of docs/model.md evaluated in the shader
+//! (`shaders/gpu/paper.wgsl`) in f32, in paper mode: N stratified tangent samples per thread,
+//! the same nodes and weights as the CPU's `Patch::new(fabric, Integration::Paper(N))`.
 
 use super::{GpuBrdf, GpuContext, GpuError, brdf_entry};
 use crate::model::curve::{Integration, curve_pieces};
@@ -8,8 +8,17 @@ use crate::model::{Fabric, Thread};
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-/// The direct-evaluation shader (defines `cloth_brdf`).
-pub const DIRECT_WGSL: &str = include_str!("../../shaders/direct.wgsl");
+/// The registered module of the paper-mode shader (`shaders/gpu/paper.wgsl`, defines
+/// `cloth_brdf`).
+pub const MODULE: &str = "gpu/paper";
+
+/// The complete WGSL module of [`GpuDirect`]: `shaders/gpu/paper.wgsl` after the tangent
+/// sample it requires, its bindings in group 0.
+pub fn paper_wgsl() -> String {
+    crate::shader::Composer::new()
+        .compose(&[MODULE])
+        .expect("the paper-mode shader composes (validated in the tests)")
+}
 
 /// Most tangent samples per thread [`GpuDirect::new`] accepts: the per-pair cost grows
 /// linearly with N, and far beyond the paper's handful of samples a table or the CPU's
@@ -20,7 +29,7 @@ pub const MAX_SAMPLES: u32 = 1024;
 /// comparison point of the runtime's cost and error figures.
 pub const DEFAULT_SAMPLES: u32 = crate::model::curve::DEFAULT_PAPER_SAMPLES;
 
-/// One thread family as `ClothDirectThread` of direct.wgsl reads it.
+/// One thread family as `ClothDirectThread` of shaders/gpu/paper.wgsl reads it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct DirectThread {
@@ -35,7 +44,7 @@ pub struct DirectThread {
     pub nodes: [u32; 4],
 }
 
-/// The uniform block of direct.wgsl (`ClothDirectParams`): both threads and `misc` =
+/// The uniform block of shaders/gpu/paper.wgsl (`ClothDirectParams`): both threads and `misc` =
 /// (−1/(2σu²), gap, degenerate-projection threshold, 0).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -212,7 +221,7 @@ impl GpuDirect {
 
 impl GpuBrdf for GpuDirect {
     fn wgsl(&self) -> String {
-        format!("{}\n{DIRECT_WGSL}", super::SAMPLE_WGSL)
+        paper_wgsl()
     }
 
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
@@ -231,7 +240,7 @@ impl GpuBrdf for GpuDirect {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fabric_file::FabricSet;
+    use crate::formats::fabric_toml::FabricSet;
 
     #[test]
     fn uniform_sizes_match_wgsl() {

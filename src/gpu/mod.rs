@@ -1,22 +1,25 @@
 //! The GPU runtime core: a wgpu device (headless or for a window surface), and evaluations of
-//! the patch transfer F(wi, wo) (MODEL.md) on the GPU behind one interface, [`GpuBrdf`]: a
-//! WGSL module defining `cloth_brdf(wi, wo)` plus the bind group it reads.
+//! the patch transfer F(wi, wo) (docs/model.md#the-patch-transfer-f) on the GPU behind one
+//! interface, [`GpuBrdf`]: a WGSL module defining `cloth_brdf(wi, wo)` plus the bind group it
+//! reads.
 //!
 //! - [`GpuContext`]: device and queue, the adapter's description, GPU timestamps if offered.
 //! - [`GpuTable`]: a baked [`crate::table::Table`] on the GPU, looked up by
-//!   `shaders/lookup.wgsl` and its layout's WGSL file specialised for the table (mirrors
+//!   `shaders/table/lookup.wgsl` and its layout's WGSL file specialised for the table (mirrors
 //!   [`crate::table::Table::lookup`]; the layout describes its textures,
 //!   [`crate::table::wgsl::lookup_wgsl`] generates the WGSL).
-//! - [`GpuDirect`]: the model itself evaluated in the shader (`shaders/direct.wgsl`), paper
-//!   mode with N tangent samples per thread (mirrors `Integration::Paper(N)`).
-//! - [`GpuResonant`]: the resonant quadrature in the shader (`shaders/resonant.wgsl`,
-//!   specialised per fabric and node counts by [`resonant::resonant_wgsl`]; mirrors
+//! - [`GpuDirect`]: the model itself evaluated in the shader (`shaders/gpu/paper.wgsl`),
+//!   paper mode with N tangent samples per thread (mirrors `Integration::Paper(N)`).
+//! - [`GpuResonant`]: the resonant quadrature in the shader
+//!   (`shaders/model/resonant_quadrature.wgsl`, specialised per fabric and node counts by [`resonant::resonant_wgsl`]; mirrors
 //!   `Integration::Resonant(nodes)`): Gauss–Legendre nodes per segment placed on each lobe.
 //! - [`GpuConstant`]: F = 1/π, the cost of a frame without BRDF work, for measurements.
-//! - [`GpuSampler`]: a fabric's importance sampler (`shaders/sampling.wgsl`, mirrors
-//!   [`crate::sampling::Sampler`]).
+//! - [`GpuSampler`]: a fabric's importance sampler (`shaders/sampling/fabric_sampler.wgsl`,
+//!   mirrors [`crate::sampling::Sampler`]).
 //! - [`evaluate_pairs`]: F(wi, wo) for a list of direction pairs by any [`GpuBrdf`]
-//!   (`shaders/eval_pairs.wgsl`), for tests and measurements.
+//!   (`shaders/gpu/eval_pairs.wgsl`), for tests and measurements.
+//!
+//! Every shader is composed by [`crate::shader::Composer`].
 
 pub mod constant;
 pub mod direct;
@@ -34,13 +37,15 @@ use glam::Vec3;
 use std::fmt;
 use wgpu::util::DeviceExt;
 
-/// One tangent sample of the model in f32 (`ThreadModel::pair_frame` and
-/// `ThreadModel::sample`), shared by the shaders that evaluate the model itself:
-/// [`GpuDirect`] and [`GpuResonant`] prepend it to their modules.
-pub const SAMPLE_WGSL: &str = include_str!("../../shaders/sample.wgsl");
-
-/// The compute entry point that [`evaluate_pairs`] appends to a [`GpuBrdf`]'s WGSL.
-pub const EVAL_PAIRS_WGSL: &str = include_str!("../../shaders/eval_pairs.wgsl");
+/// The compute entry point `eval_pairs_main` (`shaders/gpu/eval_pairs.wgsl`) over a
+/// [`GpuBrdf`]'s WGSL `brdf_wgsl` (the generated module [`crate::shader::BRDF`]): the shader
+/// of [`evaluate_pairs`].
+pub fn eval_pairs_wgsl(brdf_wgsl: String) -> String {
+    crate::shader::Composer::new()
+        .module(crate::shader::BRDF, brdf_wgsl)
+        .compose(&["gpu/eval_pairs"])
+        .expect("the pair kernel composes (validated in the tests)")
+}
 
 /// Pairs per dispatch: bounds the storage buffers (32 bytes in, 16 out per pair) well below
 /// wgpu's default 128 MiB binding limit and the workgroup count below 65535.
@@ -99,7 +104,7 @@ impl AdapterDescription {
 
     /// Whether the adapter is a software rasteriser (device type `Cpu`: lavapipe, WARP),
     /// which may run a branch's code in every pixel whether or not any pixel takes it
-    /// (lavapipe does: README, "Lookup against the direct and resonant shaders").
+    /// (lavapipe does: docs/performance.md#split_frames-horizon-band-on-lavapipe).
     pub fn is_software(&self) -> bool {
         self.device_type == format!("{:?}", wgpu::DeviceType::Cpu)
     }
@@ -214,8 +219,9 @@ impl GpuContext {
     }
 }
 
-/// A GPU evaluation of the patch transfer F(wi, wo) (MODEL.md), as a WGSL module plus its
-/// resources. A shader using it concatenates [`GpuBrdf::wgsl`] with its own source and binds
+/// A GPU evaluation of the patch transfer F(wi, wo) (docs/model.md#the-patch-transfer-f), as a
+/// WGSL module plus its resources. A shader using it composes [`GpuBrdf::wgsl`], as the
+/// generated module [`crate::shader::BRDF`], with its own modules (which require it) and binds
 /// [`GpuBrdf::bind_group`] at group 0 (its own resources in other groups).
 ///
 /// Naming contract: besides `cloth_brdf`, every top-level name the module declares (types,
@@ -237,13 +243,13 @@ pub trait GpuBrdf {
 }
 
 /// F(wi, wo) for each pair (local frame, unit vectors) evaluated on the GPU by `brdf`: the
-/// shader `brdf.wgsl()` + `shaders/eval_pairs.wgsl`, one invocation per pair, RGB per pair.
+/// shader [`eval_pairs_wgsl`] of `brdf.wgsl()`, one invocation per pair, RGB per pair.
 pub fn evaluate_pairs(
     context: &GpuContext,
     brdf: &dyn GpuBrdf,
     pairs: &[(Vec3, Vec3)],
 ) -> Result<Vec<[f32; 3]>, GpuError> {
-    let source = brdf.wgsl() + "\n" + EVAL_PAIRS_WGSL;
+    let source = eval_pairs_wgsl(brdf.wgsl());
     let results = run_pairs(
         context,
         (brdf.bind_group_layout(), brdf.bind_group()),
@@ -256,7 +262,7 @@ pub fn evaluate_pairs(
 
 /// Runs compute entry point `entry` of `source` once per pair of 3-vectors: the pairs are
 /// `eval_pairs[2k]`, `eval_pairs[2k + 1]` and the results `eval_results[k]` (vec4) in
-/// @group(1) as `shaders/eval_pairs.wgsl` declares them; `group0` is bound at @group(0).
+/// @group(1) as `shaders/gpu/eval_pairs.wgsl` declares them; `group0` is bound at @group(0).
 pub(crate) fn run_pairs(
     context: &GpuContext,
     group0: (&wgpu::BindGroupLayout, &wgpu::BindGroup),

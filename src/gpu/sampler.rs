@@ -1,15 +1,11 @@
 //! The fabric sampler on the GPU: [`crate::sampling::Sampler`]'s data in a read-only storage
-//! buffer and its WGSL (`shaders/sampling.wgsl`), plus compute runs of its two functions for
-//! tests and measurements.
+//! buffer and its WGSL (`shaders/sampling/fabric_sampler.wgsl`), plus compute runs of its two
+//! functions for tests and measurements (`shaders/gpu/sampler_pairs.wgsl`).
 
 use super::{GpuContext, GpuError, brdf_entry, run_pairs};
 use crate::sampling::Sampler;
 use glam::Vec3;
 use wgpu::util::DeviceExt;
-
-pub use crate::sampling::SAMPLING_WGSL;
-/// Compute entry points over the sampler, for [`GpuSampler::draw`] and [`GpuSampler::pdf`].
-pub const SAMPLE_DRAWS_WGSL: &str = include_str!("../../shaders/sample_draws.wgsl");
 
 /// A fabric's sampler uploaded to the GPU.
 pub struct GpuSampler {
@@ -30,10 +26,14 @@ pub fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     )
 }
 
-/// The sampler's WGSL functions with the constants of its layout; the including module
-/// declares the binding `sampling_data`.
-pub fn sampling_wgsl() -> String {
-    Sampler::wgsl_constants() + SAMPLING_WGSL
+/// The compute entry points over the sampler (`shaders/gpu/sampler_pairs.wgsl`, which
+/// requires `shaders/sampling/fabric_sampler.wgsl` and declares `sampling_data`), for
+/// [`GpuSampler::draw`] and [`GpuSampler::pdf`].
+pub fn sampler_pairs_wgsl() -> String {
+    crate::shader::Composer::new()
+        .module(crate::shader::SAMPLER_CONSTANTS, Sampler::wgsl_constants())
+        .compose(&["gpu/sampler_pairs"])
+        .expect("the sampler kernels compose (validated in the tests)")
 }
 
 impl GpuSampler {
@@ -82,7 +82,7 @@ impl GpuSampler {
         entry: &str,
         pairs: &[(Vec3, Vec3)],
     ) -> Result<Vec<[f32; 4]>, GpuError> {
-        let source = sampling_wgsl() + "\n" + SAMPLE_DRAWS_WGSL;
+        let source = sampler_pairs_wgsl();
         run_pairs(context, (&self.layout, &self.group), &source, entry, pairs)
     }
 

@@ -1,5 +1,5 @@
 //! [`GpuTable`]: a baked table on the GPU, a [`GpuBrdf`] whose `cloth_brdf` is the table
-//! lookup of `shaders/lookup.wgsl` and the layout's WGSL file (mirroring [`Table::lookup`]).
+//! lookup of `shaders/table/lookup.wgsl` and the layout's WGSL file (mirroring [`Table::lookup`]).
 //!
 //! The WGSL is specialised for each table ([`lookup_wgsl`]): a generated block holds the
 //! table's axes (warps, knots, texel counts), thread frames and fabric constants as

@@ -1,4 +1,4 @@
-//! Tangent curves (MODEL.md "Tangent curves and the patch") and the quadrature rules that
+//! Tangent curves (docs/model.md#tangent-curves) and the quadrature rules that
 //! turn the mean `⟨x⟩_j` over a curve into a weighted sum over tangent offsets α.
 //!
 //! A curve is piecewise linear in α over arc length: segment k runs from `o_k` to `o_{k+1}`
@@ -15,7 +15,7 @@ use super::resonant::ResonantNodes;
 /// (the kinks of max(cos, 0) are removed by clipping, see `ThreadModel::means`). Measured
 /// against an independent rule (tests/direct_convergence.rs), the largest relative
 /// difference on the built-in fabrics is 2.9e-5 at 0.1° and 7.5e-6 at 0.05° (this value),
-/// a 13× margin under the 1e-4 that MODEL.md asks for.
+/// a 13× margin under the 1e-4 that docs/model.md#direct-evaluation asks for.
 pub const DIRECT_MAX_SPACING_DEG: f64 = 0.05;
 /// Samples per standard deviation of the narrowest lobe in the direct rule.
 pub const DIRECT_SAMPLES_PER_SIGMA: f64 = 16.0;
@@ -68,7 +68,7 @@ impl CurvePiece {
 /// How the curve mean is computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Integration {
-    /// The converged mean (MODEL.md "Direct evaluation"): per segment midpoints, spacing set
+    /// The converged mean (docs/model.md#direct-evaluation): per segment midpoints, spacing set
     /// by the thread's narrowest lobe (see [`DIRECT_MAX_SPACING_DEG`]).
     Direct,
     /// The paper's renderer: N stratified samples per thread, the midpoints of N equal

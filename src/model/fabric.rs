@@ -1,4 +1,4 @@
-//! Fabric and thread parameters (the paper's measured set, MODEL.md "Fabric parameters"),
+//! Fabric and thread parameters (the paper's measured set, docs/model.md#the-six-built-in-fabrics),
 //! the model options, and their validation.
 //!
 //! # Fabric schema
@@ -35,7 +35,8 @@ use std::fmt;
 /// on what an untrusted file can make us allocate per sample plan.
 pub const MAX_CONTROL_POINTS: usize = 256;
 
-/// How the listed γ relates to the Gaussian's standard deviation σ (MODEL.md "Options").
+/// How the listed γ relates to the Gaussian's standard deviation σ
+/// (docs/model.md#options-and-defaults).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum GaussianWidth {
@@ -46,7 +47,8 @@ pub enum GaussianWidth {
     Sqrt2StdDev,
 }
 
-/// Where along a tangent curve the model takes its tangent samples (MODEL.md "Options").
+/// Where along a tangent curve the model takes its tangent samples
+/// (docs/model.md#options-and-defaults).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum TangentSampling {
@@ -57,7 +59,7 @@ pub enum TangentSampling {
     ControlPoints,
 }
 
-/// The documented model options; every field has the MODEL.md default.
+/// The documented model options; every field has the default of docs/model.md#options-and-defaults.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ModelOptions {
@@ -76,7 +78,8 @@ impl Default for ModelOptions {
     }
 }
 
-/// One thread family's parameters (one row of MODEL.md's fabric table).
+/// One thread family's parameters (one row of the fabric table,
+/// docs/model.md#the-six-built-in-fabrics).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Thread {
@@ -223,8 +226,8 @@ impl Thread {
                 return Err(fail("lengths", format!("length {i} must be ≥ 0, got {l}")));
             }
         }
-        // A single segment ignores its length (MODEL.md), so only a curve of several
-        // segments can be left without any arc length.
+        // A single segment ignores its length (docs/model.md#tangent-curves), so only a curve of
+        // several segments can be left without any arc length.
         if segments > 1 && self.lengths.iter().all(|&l| l == 0.0) {
             return Err(fail(
                 "lengths",
@@ -257,13 +260,14 @@ impl ModelOptions {
 }
 
 impl Fabric {
-    /// The threads in MODEL.md order: thread 1 (along x), thread 2 (along y).
+    /// The threads in the model's order (docs/model.md#frames-and-directions): thread 1 (along x),
+    /// thread 2 (along y).
     pub fn threads(&self) -> [&Thread; 2] {
         [&self.thread1, &self.thread2]
     }
 
-    /// Checks every parameter against the ranges of MODEL.md; the error names the fabric,
-    /// the thread and the field.
+    /// Checks every parameter against the ranges of docs/model.md#parameters-and-their-ranges; the
+    /// error names the fabric, the thread and the field.
     pub fn validate(&self) -> Result<(), FabricError> {
         let at = |thread: Option<u8>| {
             let fabric = self.name.clone();

@@ -1,4 +1,4 @@
-//! The microcylinder cloth model of Sadeghi et al. 2013 as specified in MODEL.md: pure
+//! The microcylinder cloth model of Sadeghi et al. 2013 as specified in docs/model.md: pure
 //! functions of directions and parameters, no I/O.
 //!
 //! Frame: x = thread 1, y = thread 2, z = surface normal; `wi` points to the light, `wo` to

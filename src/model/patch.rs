@@ -1,5 +1,6 @@
-//! The cosine-weighted patch transfer `F(wi, wo)` of MODEL.md: two thread families, each a
-//! curve of tangent samples with shadowing/masking and reweighting, normalised by `Q`.
+//! The cosine-weighted patch transfer `F(wi, wo)` of docs/model.md#the-patch-transfer-f: two thread
+//! families, each a curve of tangent samples with shadowing/masking and reweighting, normalised by
+//! `Q`.
 
 use super::curve::{CurvePiece, Integration, curve_pieces};
 use super::fabric::{Fabric, Thread};
@@ -10,7 +11,7 @@ use glam::DVec3;
 /// Below this length a projection of a unit direction counts as degenerate (the direction is
 /// parallel to the tangent or to the rotation axis). Rounding alone leaves ~1e-16 residues in
 /// the components, so a residual length of 1e-9 carries no direction; the sample then
-/// contributes 0 to s and to P, as MODEL.md prescribes.
+/// contributes 0 to s and to P, as docs/model.md#degenerate-projections prescribes.
 pub const DEGENERATE_PROJECTION: f64 = 1e-9;
 
 /// The curve means of one thread, split so that the RGB albedo factors out:
@@ -55,7 +56,7 @@ pub struct ThreadModel {
 }
 
 /// θh = (θi + θo)/2 and cos θd = cos((θi − θo)/2) from each direction's `(cos θ, sin θ)` up
-/// to a positive scale: `(|w⊥|, w·t)` with θ = atan2(w·t, |w⊥|) as MODEL.md defines it.
+/// to a positive scale: `(|w⊥|, w·t)` with θ = atan2(w·t, |w⊥|) as docs/model.md#angles-of-a-direction defines it.
 ///
 /// The sum of the unit vectors at angles θi and θo is `2 cos θd · (cos θh, sin θh)`, and
 /// cos θd ≥ 0 because |θi − θo| ≤ π (both |w⊥| ≥ 0). So one atan2 of the sum gives θh and
@@ -74,7 +75,7 @@ pub(crate) fn half_angle_and_difference(
     (y.atan2(x), 0.5 * length(x, y))
 }
 
-/// `(1 − u)·a·b + u·min(a, b)`: the reweighted product of MODEL.md's M and P.
+/// `(1 − u)·a·b + u·min(a, b)`: the reweighted product of M and P (docs/model.md#reweighting).
 #[inline]
 fn reweighted(u: f64, a: f64, b: f64) -> f64 {
     (1.0 - u) * a * b + u * a.min(b)

@@ -1,5 +1,6 @@
-//! The resonant quadrature: the curve means `⟨s⟩_j`, `⟨P⟩_j` of MODEL.md from a few dozen
-//! tangent samples per light, placed where each term of the integrand lives.
+//! The resonant quadrature: the curve means `⟨s⟩_j`, `⟨P⟩_j` of
+//! docs/model.md#coverage-and-normalisation from a few dozen tangent samples per light, placed
+//! where each term of the integrand lives.
 //!
 //! Over a curve segment the density of tangent offsets α is constant, and the integrand
 //! splits (see `SampleTerms`) into a surface part that follows `g(γs, θh(α))`, a volume part

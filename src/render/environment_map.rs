@@ -1,11 +1,11 @@
 //! The environment light on the GPU: an [`Environment`]'s mip chain as a filterable f16
-//! texture, and the render pass's lighting group (@group(2) of shaders/render.wgsl): that
+//! texture, and the render pass's lighting group (@group(2) of shaders/render/renderer.wgsl): that
 //! texture, its trilinear sampler and the fabric's importance sampler
 //! ([`crate::gpu::GpuSampler`]) that filtered importance sampling draws from.
 
-use crate::environment::Environment;
 use crate::gpu::sampler::sampler_entry;
 use crate::gpu::{GpuContext, GpuError, GpuSampler};
+use crate::lighting::Environment;
 use half::f16;
 
 /// Largest f16 value: brighter texels (the sun of a captured sky) are clamped to it.

@@ -1,6 +1,7 @@
 //! What changes from frame to frame ([`FrameSettings`]: camera, lights, exposure,
-//! background, environment samples) and its packing into the uniform block of shaders/render.wgsl. The packing is
-//! private to the renderer; only its layout has to match the WGSL.
+//! background, environment samples) and its packing into the uniform block of
+//! shaders/render/renderer.wgsl. The packing is private to the renderer; only its layout has
+//! to match the WGSL.
 
 use super::environment_map::EnvironmentDimensions;
 use super::{Camera, LightSource};
@@ -18,7 +19,7 @@ pub struct FrameSettings {
     /// Background display colour (sRGB-encoded values in [0, 1]).
     pub background: [f32; 3],
     /// Samples per pixel of the environment light (filtered importance sampling, see
-    /// shaders/render.wgsl); 0: no environment light.
+    /// shaders/render/renderer.wgsl); 0: no environment light.
     pub environment_samples: u32,
 }
 
@@ -34,7 +35,7 @@ impl FrameSettings {
             exposure: scene.exposure as f32,
             background: BACKGROUND,
             environment_samples: match scene.environment.source {
-                crate::environment::EnvironmentSource::None => 0,
+                crate::lighting::EnvironmentSource::None => 0,
                 _ => scene.environment.samples,
             },
         }
@@ -49,7 +50,7 @@ struct LightUniform {
     power: [f32; 4],
 }
 
-/// The uniform block of shaders/render.wgsl (`RenderFrameUniform`).
+/// The uniform block of shaders/render/renderer.wgsl (`RenderFrameUniform`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub(super) struct FrameUniform {

@@ -9,7 +9,7 @@ use super::{
     LINEAR_FORMAT, PassTimestamps, Renderer, TimingSource,
 };
 use crate::gpu::{GpuBrdf, GpuContext, GpuError};
-use crate::mesh::Mesh;
+use crate::scene::mesh::Mesh;
 use std::time::Instant;
 
 /// Largest headless image side: bounds the read-back and G-buffer memory (3 × 16 bytes per

@@ -1,7 +1,7 @@
 //! Images of rendered cloth: linear radiance buffers, the tone mapping the render shader
 //! applies (mirrored on the CPU), image error metrics, error heat maps, PNG and EXR files.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A linear-radiance image: RGB outgoing radiance per pixel, alpha 1 where the cloth covers
 /// the pixel and 0 on the background. Rows top to bottom.
@@ -58,7 +58,7 @@ fn quantise(v: f32) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
-/// The render shader's tone mapping (`render_tonemap` in shaders/render.wgsl): radiance
+/// The render shader's tone mapping (`render_tonemap` in shaders/render/renderer.wgsl): radiance
 /// times exposure, the ACES filmic fit x(2.51x + 0.03)/(x(2.43x + 0.59) + 0.14) clamped to
 /// [0, 1], then the sRGB transfer function. Returns display values in [0, 1].
 pub fn tonemap(radiance: [f32; 3], exposure: f32) -> [f32; 3] {
@@ -104,20 +104,40 @@ pub struct ImageError {
     pub coverage_mismatch: usize,
 }
 
+/// Why images could not be compared, written or read.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageFileError {
+    #[error("image sizes differ: {render:?} against a {reference:?} reference")]
+    SizeMismatch {
+        render: (u32, u32),
+        reference: (u32, u32),
+    },
+    #[error("cannot write {path}: {message}", path = .path.display())]
+    Write { path: PathBuf, message: String },
+    #[error("cannot read {path}: {message}", path = .path.display())]
+    Read { path: PathBuf, message: String },
+}
+
+/// Checks that two images have the same size.
+fn same_size(render: &LinearImage, reference: &LinearImage) -> Result<(), ImageFileError> {
+    if (render.width, render.height) != (reference.width, reference.height)
+        || render.pixels.len() != reference.pixels.len()
+    {
+        return Err(ImageFileError::SizeMismatch {
+            render: (render.width, render.height),
+            reference: (reference.width, reference.height),
+        });
+    }
+    Ok(())
+}
+
 /// Compares `render` with `reference` (linear radiance of the same view and size).
 pub fn image_error(
     render: &LinearImage,
     reference: &LinearImage,
     exposure: f32,
-) -> Result<ImageError, String> {
-    if (render.width, render.height) != (reference.width, reference.height)
-        || render.pixels.len() != reference.pixels.len()
-    {
-        return Err(format!(
-            "image sizes differ: {}×{} against a {}×{} reference",
-            render.width, render.height, reference.width, reference.height
-        ));
-    }
+) -> Result<ImageError, ImageFileError> {
+    same_size(render, reference)?;
     let (mut diff2, mut ref2, mut se) = (0.0f64, 0.0f64, 0.0f64);
     let (mut covered, mut mismatch, mut union) = (0usize, 0usize, 0usize);
     for i in 0..reference.pixels.len() {
@@ -172,10 +192,11 @@ pub const HEATMAP_BAR_ROWS: u32 = 12;
 /// red to 100% and above (white); background grey. Below the image, a colour bar of
 /// [`HEATMAP_BAR_ROWS`] rows spans the same scale left to right with black tick marks at
 /// 0.1%, 1%, 10% and 100%.
-pub fn error_heatmap(render: &LinearImage, reference: &LinearImage) -> Result<Rgba8Image, String> {
-    if render.pixels.len() != reference.pixels.len() || render.width != reference.width {
-        return Err("image sizes differ".into());
-    }
+pub fn error_heatmap(
+    render: &LinearImage,
+    reference: &LinearImage,
+) -> Result<Rgba8Image, ImageFileError> {
+    same_size(render, reference)?;
     let norm = |p: &[f32; 4]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
     let covered: Vec<usize> = (0..reference.pixels.len())
         .filter(|&i| reference.covered(i))
@@ -240,8 +261,11 @@ fn heat_colour(x: f32) -> [u8; 4] {
 }
 
 /// Writes an 8-bit RGBA PNG.
-pub fn write_png(path: &Path, image: &Rgba8Image) -> Result<(), String> {
-    let fail = |e: &dyn std::fmt::Display| format!("cannot write {}: {e}", path.display());
+pub fn write_png(path: &Path, image: &Rgba8Image) -> Result<(), ImageFileError> {
+    let fail = |e: &dyn std::fmt::Display| ImageFileError::Write {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
     let file = std::fs::File::create(path).map_err(|e| fail(&e))?;
     let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), image.width, image.height);
     encoder.set_color(png::ColorType::Rgba);
@@ -255,7 +279,7 @@ pub fn write_png(path: &Path, image: &Rgba8Image) -> Result<(), String> {
 }
 
 /// Writes a linear image as an OpenEXR file of f16 RGBA (alpha = coverage).
-pub fn write_linear_exr(path: &Path, image: &LinearImage) -> Result<(), String> {
+pub fn write_linear_exr(path: &Path, image: &LinearImage) -> Result<(), ImageFileError> {
     use exr::prelude::*;
     let width = image.width as usize;
     let pixels = &image.pixels;
@@ -271,16 +295,22 @@ pub fn write_linear_exr(path: &Path, image: &LinearImage) -> Result<(), String> 
     Image::from_channels((image.width as usize, image.height as usize), channels)
         .write()
         .to_file(path)
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
+        .map_err(|e| ImageFileError::Write {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })
 }
 
 /// Largest linear image read (pixels).
 pub const MAX_LINEAR_EXR_PIXELS: usize = 1 << 24;
 
 /// Reads a linear RGBA OpenEXR image (the first RGBA layer; missing alpha reads as 1).
-pub fn read_linear_exr(path: &Path) -> Result<LinearImage, String> {
+pub fn read_linear_exr(path: &Path) -> Result<LinearImage, ImageFileError> {
     use exr::prelude::*;
-    let fail = |e: &dyn std::fmt::Display| format!("cannot read {}: {e}", path.display());
+    let fail = |e: &dyn std::fmt::Display| ImageFileError::Read {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
     let image = read()
         .no_deep_data()
         .largest_resolution_level()

@@ -1,35 +1,23 @@
-//! The `render` command: each fabric of a scene rendered headless with the table lookup, the
-//! direct shader or the resonant shader, written as PNG with its median GPU time per frame;
-//! optionally the CPU reference of the same view, an error heat map and the image error.
+//! The `render` command: each fabric of a scene rendered headless with the GPU form of an
+//! evaluator (a table's lookup, paper mode, the resonant quadrature; [`crate::evaluator`]),
+//! written as PNG with its median GPU time per frame; optionally the CPU reference of the
+//! same view, an error heat map and the image error.
 
 use super::image::{
-    HEATMAP_LOG10_RANGE, ImageError, error_heatmap, image_error, write_linear_exr, write_png,
+    HEATMAP_LOG10_RANGE, ImageError, ImageFileError, error_heatmap, image_error, write_linear_exr,
+    write_png,
 };
 use super::reference::ReferenceEnvironment;
 use super::{FrameSettings, GpuEnvironment, Headless, RenderOutput, reference};
-use crate::fabric_file::FabricSet;
-use crate::gpu::{GpuBrdf, GpuConstant, GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
-use crate::mesh::Mesh;
+use crate::evaluator::{EvaluationContext, Evaluator, FabricEvaluator, GpuOptions};
+use crate::formats::fabric_toml::FabricSet;
+use crate::gpu::{GpuBrdf, GpuContext, GpuSampler};
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
-use crate::sampling::Sampler;
 use crate::scene::Scene;
-use crate::table_file::{TableFile, read_table};
+use crate::scene::mesh::Mesh;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
-
-/// Which evaluation of F the render shader uses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Shader {
-    /// The baked table, `TABLES/NAME.exr`.
-    Lookup,
-    /// The model in the shader, paper mode with this many tangent samples per thread.
-    Direct { samples: u32 },
-    /// The resonant quadrature in the shader ([`crate::gpu::GpuResonant`]) with these node
-    /// counts per segment.
-    Resonant { nodes: ResonantNodes },
-    /// F = 1/π ([`crate::gpu::GpuConstant`]): the frame's cost without BRDF work.
-    Constant,
-}
 
 /// One `render` run.
 #[derive(Clone, Debug)]
@@ -37,7 +25,7 @@ pub struct RenderJob {
     pub scene: Scene,
     /// Render only this fabric (default: every fabric of the scene).
     pub fabric: Option<String>,
-    /// Directory of the baked tables.
+    /// Directory of the baked tables (the `table` evaluator's default).
     pub tables: PathBuf,
     /// Output PNG; with several fabrics, `STEM-FABRIC.png` beside it.
     pub out: PathBuf,
@@ -45,10 +33,10 @@ pub struct RenderJob {
     pub height: u32,
     /// Timed frames (after one warm-up frame).
     pub frames: u32,
-    pub shader: Shader,
-    /// split_frame's horizon band in the lookup (`None`: on, except on a software
-    /// rasteriser; [`GpuTable::with_horizon_band`]).
-    pub horizon_band: Option<bool>,
+    /// How the shader evaluates F: an evaluator with a GPU form.
+    pub evaluator: Arc<dyn Evaluator>,
+    /// Adapter-dependent options of the GPU form (split_frame's horizon band).
+    pub gpu_options: GpuOptions,
     /// Also render the CPU reference and compare.
     pub reference: bool,
     /// Monte Carlo samples per pixel of the reference's environment term.
@@ -78,34 +66,6 @@ pub struct Comparison {
     pub reference_seconds: f64,
 }
 
-/// The table of `fabric` in `tables`, checked to be baked from exactly these parameters.
-pub fn load_table(tables: &Path, fabric: &Fabric) -> Result<TableFile, String> {
-    let path = tables.join(format!("{}.exr", fabric.name));
-    if !path.exists() {
-        return Err(format!(
-            "no table {} for fabric '{}': bake it first with `clothbake bake --fabric {} --out {}` \
-             (or `clothbake bake --scene SCENE --out {}`)",
-            path.display(),
-            fabric.name,
-            fabric.name,
-            tables.display(),
-            tables.display()
-        ));
-    }
-    let file = read_table(&path).map_err(|e| e.to_string())?;
-    if file.table.fabric != *fabric {
-        return Err(format!(
-            "table {} was baked from other parameters of '{}' than the fabric file gives: \
-             bake it again (`clothbake bake --fabric {} --out {}`)",
-            path.display(),
-            fabric.name,
-            fabric.name,
-            tables.display()
-        ));
-    }
-    Ok(file)
-}
-
 /// `out` for a single fabric, else `STEM-FABRIC.EXT` beside it.
 pub fn output_path(out: &Path, fabric: &str, several: bool) -> PathBuf {
     if !several {
@@ -126,9 +86,30 @@ pub fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
 }
 
 /// Runs the job; `say` receives each line of the report as it happens.
-pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRender>, String> {
-    let set =
-        FabricSet::load_or_builtin(job.scene.fabric_file.as_deref()).map_err(|e| e.to_string())?;
+/// Why a render job failed: the library error of the step that failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Fabrics(#[from] crate::formats::fabric_toml::FabricFileError),
+    #[error(transparent)]
+    Environment(#[from] crate::lighting::EnvironmentError),
+    #[error(transparent)]
+    Evaluator(#[from] crate::evaluator::EvaluatorError),
+    #[error(transparent)]
+    Mesh(#[from] crate::scene::mesh::MeshError),
+    #[error(transparent)]
+    Gpu(#[from] crate::gpu::GpuError),
+    #[error(transparent)]
+    Image(#[from] ImageFileError),
+    #[error("cannot create {path}: {source}", path = .path.display())]
+    CreateDirectory {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRender>, RenderError> {
+    let set = FabricSet::load_or_builtin(job.scene.fabric_file.as_deref())?;
     let names = match &job.fabric {
         Some(name) => vec![name.clone()],
         None => job.scene.fabrics.clone(),
@@ -139,25 +120,18 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
         .collect::<Result<_, _>>()?;
     // The environment, then the tables: a bad file or a missing table is an error before
     // any GPU work.
-    let environment = job
-        .scene
-        .environment
-        .source
-        .load()
-        .map_err(|e| e.to_string())?;
-    let tables = match job.shader {
-        Shader::Lookup => fabrics
-            .iter()
-            .map(|f| load_table(&job.tables, f).map(Some))
-            .collect::<Result<Vec<_>, _>>()?,
-        Shader::Direct { .. } | Shader::Resonant { .. } | Shader::Constant => {
-            vec![None; fabrics.len()]
-        }
+    let environment = job.scene.environment.source.load()?;
+    let evaluation_context = EvaluationContext {
+        tables: job.tables.clone(),
     };
+    let evaluations: Vec<Box<dyn FabricEvaluator>> = fabrics
+        .iter()
+        .map(|f| job.evaluator.prepare(f, &evaluation_context))
+        .collect::<Result<_, _>>()?;
     let mut settings = FrameSettings::from_scene(&job.scene);
     let mesh = match &job.mesh {
         Some(path) => {
-            let mesh = Mesh::load_obj(path).map_err(|e| e.to_string())?;
+            let mesh = Mesh::load_obj(path)?;
             // Frame the user's mesh: aim at its bounding sphere, keep the view direction.
             let (centre, radius) = mesh.bounding_sphere();
             let fov = settings.camera.fov_y_deg.to_radians();
@@ -172,15 +146,14 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             ));
             mesh
         }
-        None => Mesh::from_spec(&job.scene.mesh).map_err(|e| e.to_string())?,
+        None => Mesh::from_spec(&job.scene.mesh)?,
     };
-    let context = GpuContext::new().map_err(|e| e.to_string())?;
+    let context = GpuContext::new()?;
     say(&format!("adapter: {}", context.adapter));
     let gpu_environment = environment
         .as_ref()
         .map(|map| GpuEnvironment::new(&context, map))
-        .transpose()
-        .map_err(|e| e.to_string())?;
+        .transpose()?;
     if let Some(map) = &environment {
         say(&format!(
             "environment {} ({}×{}, {} mip levels): {} filtered importance samples per pixel",
@@ -194,49 +167,32 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     let several = fabrics.len() > 1;
     let mut headless: Option<Headless> = None;
     let mut results = Vec::new();
-    for (fabric, table) in fabrics.iter().zip(&tables) {
-        let brdf: Box<dyn GpuBrdf> = match (job.shader, table) {
-            (Shader::Lookup, Some(file)) => Box::new(
-                GpuTable::with_horizon_band(&context, &file.table, job.horizon_band)
-                    .map_err(|e| e.to_string())?,
-            ),
-            (Shader::Direct { samples }, _) => {
-                Box::new(GpuDirect::new(&context, fabric, samples).map_err(|e| e.to_string())?)
-            }
-            (Shader::Resonant { nodes }, _) => {
-                Box::new(GpuResonant::new(&context, fabric, nodes).map_err(|e| e.to_string())?)
-            }
-            (Shader::Constant, _) => Box::new(GpuConstant::new(&context)),
-            (Shader::Lookup, None) => unreachable!("tables are loaded for the lookup"),
-        };
+    for (fabric, evaluation) in fabrics.iter().zip(&evaluations) {
+        let brdf: Box<dyn GpuBrdf> = evaluation.gpu(&context, job.gpu_options)?;
         let renderer = match &mut headless {
             Some(h) => {
-                h.renderer
-                    .set_brdf(&context, brdf.as_ref())
-                    .map_err(|e| e.to_string())?;
+                h.renderer.set_brdf(&context, brdf.as_ref())?;
                 h
             }
-            None => headless.insert(
-                Headless::new(&context, &mesh, brdf.as_ref(), job.width, job.height)
-                    .map_err(|e| e.to_string())?,
-            ),
+            None => headless.insert(Headless::new(
+                &context,
+                &mesh,
+                brdf.as_ref(),
+                job.width,
+                job.height,
+            )?),
         };
-        // The fabric's importance sampler, built on the CPU and uploaded: from the table the
-        // lookup shades with (a fraction of a second), else from the resonant quadrature.
-        let sampler = gpu_environment.as_ref().map(|_| match table {
-            Some(file) => Sampler::for_table(&file.table),
-            None => Sampler::for_fabric(fabric),
-        });
+        // The importance sampler that fits the evaluation, built on the CPU and uploaded: a
+        // table's from its texels (a fraction of a second), else the fabric's from the
+        // resonant quadrature.
+        let sampler = gpu_environment.as_ref().map(|_| evaluation.sampler());
         if let (Some(map), Some(sampler)) = (&gpu_environment, &sampler) {
-            let gpu_sampler = GpuSampler::new(&context, sampler).map_err(|e| e.to_string())?;
+            let gpu_sampler = GpuSampler::new(&context, sampler)?;
             renderer
                 .renderer
-                .set_environment(&context, map, &gpu_sampler)
-                .map_err(|e| e.to_string())?;
+                .set_environment(&context, map, &gpu_sampler)?;
         }
-        let output = renderer
-            .render(&context, &settings, job.frames)
-            .map_err(|e| e.to_string())?;
+        let output = renderer.render(&context, &settings, job.frames)?;
         let png = output_path(&job.out, &fabric.name, several);
         create_parent(&png)?;
         write_png(&png, &output.display)?;
@@ -257,13 +213,11 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             output.timing.source
         ));
         let comparison = if job.reference {
-            let gbuffer = renderer
-                .gbuffer(&context, &settings)
-                .map_err(|e| e.to_string())?;
+            let gbuffer = renderer.gbuffer(&context, &settings)?;
             let start = Instant::now();
             // Under an environment light the reference evaluates F at hundreds of directions
             // per pixel: the resonant quadrature (within 0.02–0.11% of the direct rule,
-            // README) keeps that to seconds.
+            // report/REPORT.md) keeps that to seconds.
             let (patch, evaluation) = match &environment {
                 None => (Patch::new(fabric, Integration::Direct), "direct evaluation"),
                 Some(_) => (
@@ -341,10 +295,14 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     Ok(results)
 }
 
-fn create_parent(path: &Path) -> Result<(), String> {
+fn create_parent(path: &Path) -> Result<(), RenderError> {
     match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create {}: {e}", dir.display())),
+        Some(dir) if !dir.as_os_str().is_empty() => {
+            std::fs::create_dir_all(dir).map_err(|source| RenderError::CreateDirectory {
+                path: dir.to_path_buf(),
+                source,
+            })
+        }
         _ => Ok(()),
     }
 }

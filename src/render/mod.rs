@@ -12,7 +12,7 @@
 //!   against the CPU reference.
 //! - [`image`]: tone mapping, image error metrics, heat maps, PNG/EXR files.
 //!
-//! Shading (shaders/render.wgsl): per pixel, the frame (t, b = n × t, n) from the
+//! Shading (shaders/render/renderer.wgsl): per pixel, the frame (t, b = n × t, n) from the
 //! interpolated vertex normal and tangent, re-orthonormalised, flipped to the side facing the
 //! viewer (two-sided cloth); wi and wo in that frame; radiance `L = Σ_lights E·F(wi, wo)`
 //! with `E` the light's perpendicular irradiance at the point (directional: colour ×
@@ -45,9 +45,11 @@ pub use environment_map::GpuEnvironment;
 pub use frame::{BACKGROUND, FrameSettings};
 pub use headless::{GBuffer, HEADLESS_COLOR_FORMAT, Headless, MAX_IMAGE_SIDE, RenderOutput};
 pub use lights::LightSource;
+#[cfg(test)]
+pub(crate) use renderer::STUB_BRDF_WGSL;
 pub use renderer::{
     DEPTH_FORMAT, FrameTargets, GBUFFER_FORMAT, GBufferTargets, LINEAR_FORMAT, LINEAR_FORMAT_F16,
-    RENDER_WGSL, Renderer, float32_renderable, linear_format,
+    RENDER_MODULE, Renderer, float32_renderable, linear_format, render_wgsl,
 };
 pub(crate) use timing::PassTimestamps;
 pub use timing::{FrameTiming, TimingSource, median};

@@ -1,13 +1,14 @@
 //! The CPU reference of a rendered view: every pixel the cloth covers shaded by the direct
-//! evaluation of F (MODEL.md's ground truth) from the G-buffer of the same view, so that the
-//! comparison with a GPU render measures shading error alone (both start from the same
-//! rasterised positions and frames). The environment light, where there is one, is
+//! evaluation of F (the ground truth, docs/model.md#direct-evaluation) from the G-buffer of the
+//! same view, so that the comparison with a GPU render measures shading error alone (both start
+//! from the same rasterised positions and frames). The environment light, where there is one, is
 //! integrated by Monte Carlo against the full-resolution map (no mip filtering).
 
 use super::image::LinearImage;
 use super::{FrameSettings, GBuffer};
-use crate::environment::{Environment, EnvironmentSampler};
+use crate::lighting::Environment;
 use crate::model::Patch;
+use crate::sampling::EnvironmentSampler;
 use crate::sampling::{Sampler, hammersley};
 use glam::DVec3;
 use rand::{Rng, SeedableRng};

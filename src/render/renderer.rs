@@ -10,17 +10,17 @@ use super::environment_map::{
 use super::frame::FrameUniform;
 use super::headless::target;
 use super::image;
-use crate::gpu::sampler::sampling_wgsl;
 use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampler};
-use crate::mesh::{Mesh, Vertex};
+use crate::scene::mesh::{Mesh, Vertex};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
-/// The render shader, appended to a [`GpuBrdf::wgsl`].
-pub const RENDER_WGSL: &str = include_str!("../../shaders/render.wgsl");
+/// The registered module of the render shader, which requires a [`GpuBrdf::wgsl`] (the
+/// generated module [`crate::shader::BRDF`]) and the fabric sampler.
+pub const RENDER_MODULE: &str = "render/renderer";
 
 /// A `cloth_brdf` that returns 0, for the G-buffer pipeline (which never calls it).
-const STUB_BRDF_WGSL: &str =
+pub(crate) const STUB_BRDF_WGSL: &str =
     "fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> { return vec3<f32>(0.0); }\n";
 
 /// Depth buffer format of every pass.
@@ -213,7 +213,7 @@ impl Renderer {
     /// Shades with `brdf` from now on (builds its pipeline unless one for the same shader
     /// was built before).
     pub fn set_brdf(&mut self, context: &GpuContext, brdf: &dyn GpuBrdf) -> Result<(), GpuError> {
-        let source = render_source(&brdf.wgsl());
+        let source = render_wgsl(&brdf.wgsl());
         if let Some(pipelines) = self.pipelines.get(&source) {
             self.current = Some(pipelines.clone());
         } else {
@@ -420,7 +420,7 @@ impl Renderer {
     ) -> Result<(), GpuError> {
         if self.gbuffer_pipeline.is_none() {
             check_gbuffer_support(context)?;
-            let source = render_source(STUB_BRDF_WGSL);
+            let source = render_wgsl(STUB_BRDF_WGSL);
             let formats: [Option<wgpu::ColorTargetState>; 3] =
                 std::array::from_fn(|_| Some(GBUFFER_FORMAT.into()));
             let pipeline = context.checked(|| {
@@ -463,9 +463,16 @@ impl Renderer {
 }
 
 /// The render module for a BRDF's WGSL: the BRDF, the fabric sampler's functions, then
-/// shaders/render.wgsl.
-fn render_source(brdf_wgsl: &str) -> String {
-    format!("{brdf_wgsl}\n{}\n{RENDER_WGSL}", sampling_wgsl())
+/// shaders/render/renderer.wgsl.
+pub fn render_wgsl(brdf_wgsl: &str) -> String {
+    crate::shader::Composer::new()
+        .module(crate::shader::BRDF, brdf_wgsl)
+        .module(
+            crate::shader::SAMPLER_CONSTANTS,
+            crate::sampling::Sampler::wgsl_constants(),
+        )
+        .compose(&[RENDER_MODULE])
+        .expect("the render shader composes (validated in the tests)")
 }
 
 fn shader_module(context: &GpuContext, source: &str) -> wgpu::ShaderModule {

@@ -3,7 +3,7 @@
 //! ([`rerender`]).
 
 use super::{Report, ReportError, markdown};
-use crate::accuracy::{SetError, TableError};
+use crate::measure::accuracy::{SetError, TableError};
 use serde::{Deserialize, Deserializer};
 use std::path::Path;
 
@@ -42,7 +42,7 @@ pub fn rerender(out: &Path) -> Result<Report, ReportError> {
     Ok(report)
 }
 
-/// serde's view of [`SetError`] for reading: `crate::accuracy` writes its errors but does
+/// serde's view of [`SetError`] for reading: `crate::measure::accuracy` writes its errors but does
 /// not read them, so the report reads them through these mirrors (serde's remote derive,
 /// which checks at compile time that the mirror names every field).
 #[derive(Deserialize)]

@@ -9,11 +9,11 @@
 
 use super::ReportConfig;
 use crate::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, GpuResonant, GpuTable};
-use crate::mesh::Mesh;
 use crate::model::{Integration, Patch, ResonantNodes};
 use crate::render::image::{LinearImage, image_error};
 use crate::render::{FrameSettings, Headless, reference};
 use crate::scene::Scene;
+use crate::scene::mesh::Mesh;
 use crate::table::Table;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -163,7 +163,7 @@ fn measure_on(
     let text = |e: GpuError| e.to_string();
     let scene = Scene::builtin();
     // The shaders are compared on the scene's lights alone: an environment light multiplies
-    // every shader's BRDF work by its sample count (README, "Environment light").
+    // every shader's BRDF work by its sample count (docs/sampling.md#measured).
     let settings = FrameSettings {
         environment_samples: 0,
         ..FrameSettings::from_scene(&scene)
@@ -223,7 +223,8 @@ fn measure_on(
             });
             let output = renderer.render(context, &settings, frames).map_err(text)?;
             source = output.timing.source.to_string();
-            let error = image_error(&output.linear, reference, settings.exposure)?;
+            let error = image_error(&output.linear, reference, settings.exposure)
+                .map_err(|e| e.to_string())?;
             let point = GpuPoint {
                 shader: shader.to_string(),
                 samples: *samples,

@@ -71,15 +71,15 @@ fn method(report: &Report, md: &mut String) {
     let _ = writeln!(
         md,
         "- **Errors**: relative RMS over RGB, `sqrt(Σ|F_est − F|² / Σ|F|²)`, against the direct \
-         evaluation (MODEL.md's ground truth) on {} uniform pairs (both directions uniform \
+         evaluation (the ground truth, docs/model.md) on {} uniform pairs (both directions uniform \
          over the upper hemisphere, seed {:#x}), {} highlight pairs (on the specular cones \
          of tangent samples, seed {:#x}), and the uniform pairs with both directions at \
-         least 15° above the horizon — the sets of `clothbake check` (src/accuracy.rs, \
-         src/direction_sets.rs).",
+         least 15° above the horizon — the sets of `clothbake check` (src/measure/accuracy.rs, \
+         src/measure/direction_sets.rs).",
         c.error_pairs,
-        crate::accuracy::UNIFORM_SEED,
+        crate::measure::accuracy::UNIFORM_SEED,
         c.error_pairs,
-        crate::accuracy::HIGHLIGHT_SEED
+        crate::measure::accuracy::HIGHLIGHT_SEED
     );
     let _ = writeln!(
         md,

@@ -8,9 +8,9 @@ use super::{
     ReportError, ResonantPoint, Speedup, TIMING_SEED, TablePoint, compare_with_paper, gpu,
     markdown, plots, verdict, worst,
 };
-use crate::accuracy::{Reference, TableError, lookup_batch_sum, lookup_f32};
 use crate::bake::bake;
-use crate::direction_sets::{highlight_pairs, uniform_pairs};
+use crate::measure::accuracy::{Reference, TableError, lookup_batch_sum, lookup_f32};
+use crate::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::table::{Layout, Table};
 use glam::DVec3;
@@ -68,9 +68,12 @@ fn measure_fabric(
             (n, patch, error)
         })
         .collect();
-    let uniform_set = uniform_pairs(config.error_pairs, crate::accuracy::UNIFORM_SEED);
-    let highlight_set =
-        highlight_pairs(fabric, config.error_pairs, crate::accuracy::HIGHLIGHT_SEED);
+    let uniform_set = uniform_pairs(config.error_pairs, crate::measure::accuracy::UNIFORM_SEED);
+    let highlight_set = highlight_pairs(
+        fabric,
+        config.error_pairs,
+        crate::measure::accuracy::HIGHLIGHT_SEED,
+    );
     let resonants: Vec<(ResonantNodes, Patch, TableError, EvaluationsPerLight)> = config
         .resonant_nodes
         .iter()

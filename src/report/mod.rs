@@ -1,9 +1,9 @@
 //! `clothbake report`: speed against error, measured in one run and written as Markdown,
 //! JSON and PNG plots.
 //!
-//! For every fabric it measures, against the direct evaluation (MODEL.md's ground truth)
-//! on the seeded validation sets of [`crate::direction_sets`] (through
-//! [`crate::accuracy::Reference`]):
+//! For every fabric it measures, against the direct evaluation (the ground truth, docs/model.md)
+//! on the seeded validation sets of [`crate::measure::direction_sets`] (through
+//! [`crate::measure::accuracy::Reference`]):
 //!
 //! - each layout over a range of resolutions: table size, relative RMS error (uniform,
 //!   highlight, both directions ≥ 15° above the horizon), CPU nanoseconds per lookup and
@@ -42,8 +42,8 @@ pub mod timing;
 pub use files::{JSON_FILE_NAME, read, rerender};
 pub use measure::run;
 
-use crate::accuracy::TableError;
 use crate::bake::BakeError;
+use crate::measure::accuracy::TableError;
 use crate::model::{Fabric, ResonantNodes};
 use crate::table::Layout;
 use serde::{Deserialize, Serialize};

@@ -103,7 +103,7 @@ impl Axis {
 }
 
 /// An [`Axis`] prepared for f32 lookups: the warp's constant factors folded as the WGSL
-/// warp functions fold them (`shaders/thread_frame.wgsl`), so that a lookup is a few
+/// warp functions fold them (`shaders/table/thread_geometry.wgsl`), so that a lookup is a few
 /// multiplications (and one fast asin for `SinEnds`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisF32 {
@@ -186,7 +186,7 @@ impl AxisF32 {
     }
 
     /// The WGSL call computing the continuous texel coordinate of `value` on this axis (the
-    /// warp functions of `shaders/thread_frame.wgsl` with the folded constants), and a
+    /// warp functions of `shaders/table/thread_geometry.wgsl` with the folded constants), and a
     /// comment describing the axis.
     pub fn wgsl_texel(axis: &Axis, value: &str) -> (String, String) {
         use super::wgsl::{wgsl_f32, wgsl_vec};

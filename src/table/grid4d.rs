@@ -17,6 +17,7 @@
 //! reflection, transmission1, transmission2, 0. (Plus one unused layer when N² is a
 //! multiple of 6: wgpu's GL backend would otherwise make the texture a cube map array.)
 
+use super::gpu_bound::{COORDINATE_ERROR, FILTER_WEIGHT_STEP, GpuErrorBound, floor, range};
 use super::wgsl::LookupShaderOptions;
 use super::{
     LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, octahedral, quadrilinear_corners,
@@ -75,10 +76,6 @@ impl LayoutUnit for Grid4d {
             n: resolution as usize,
         })
     }
-
-    fn wgsl_source(&self) -> &'static str {
-        include_str!("../../shaders/grid4d.wgsl")
-    }
 }
 
 /// The lookup of a grid4d table of N×N octahedral texels per direction.
@@ -132,6 +129,40 @@ impl TableLookup for Grid4dLookup {
 
     fn textures(&self, planes: &[Plane]) -> Vec<TextureData> {
         vec![texture(&planes[0], self.n)]
+    }
+
+    /// The wo blend is filtered in hardware (2 axes, 8-bit weights); the wi blend is in
+    /// f32; every coordinate carries f32 error ([`gpu_bound`] points 1 and 2).
+    fn gpu_error_bound(
+        &self,
+        planes: &[Plane],
+        albedo: [DVec3; 2],
+        wi: DVec3,
+        wo: DVec3,
+        cpu: DVec3,
+    ) -> GpuErrorBound {
+        let n = self.n;
+        let axis = |x: f64| {
+            let f = x.floor();
+            let last = n as i64 - 1;
+            let i = |k: i64| k.clamp(0, last) as usize;
+            (i(f as i64), i(f as i64 + 1), x - f)
+        };
+        let ci = octahedral::encode(wi) * n as f64 - 0.5;
+        let co = octahedral::encode(wo) * n as f64 - 0.5;
+        let axes = [axis(ci.x), axis(ci.y), axis(co.x), axis(co.y)];
+        let corners: Vec<&[f32]> = quadrilinear_corners(axes)
+            .map(|(i, _)| planes[0].texel(i[0] * n + i[2], i[1] * n + i[3]))
+            .collect();
+        let ranges: [f64; 3] = std::array::from_fn(|c| range(corners.iter().map(|t| t[c] as f64)));
+        let scale = 2.0 * FILTER_WEIGHT_STEP + 4.0 * COORDINATE_ERROR;
+        let per_channel = (DVec3::splat(ranges[0]) + albedo[0] * ranges[1] + albedo[1] * ranges[2])
+            * scale
+            + floor(cpu);
+        GpuErrorBound {
+            per_channel,
+            on_fold: false,
+        }
     }
 
     fn as_any(&self) -> &dyn Any {

@@ -19,6 +19,7 @@
 
 pub mod axis;
 pub mod fast_math;
+pub mod gpu_bound;
 pub mod grid4d;
 pub mod octahedral;
 pub mod point_samples;
@@ -63,9 +64,8 @@ pub trait LayoutUnit: Sync {
     /// The lookup of a table of `fabric` at `resolution` (its geometry; texels stay in the
     /// planes).
     fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup>;
-    /// The layout's WGSL file (`shaders/<name>.wgsl`), which defines
-    /// `cloth_<name>_brdf(wi, wo)`.
-    fn wgsl_source(&self) -> &'static str;
+    // The layout's WGSL file is `shaders/table/<name>.wgsl`, registered in
+    // `crate::shader::FILES` as `table/<name>`; it defines `cloth_<name>_brdf(wi, wo)`.
 }
 
 /// The lanes of a batch lookup's coordinates ([`fast_math::Lanes`]): eight f32, one AVX
@@ -96,11 +96,28 @@ pub trait TableLookup: Send + Sync + fmt::Debug + Any {
     ) -> [[f32; 3]; BATCH_LANES] {
         std::array::from_fn(|k| self.terms_f32(planes, wi[k], wo[k]))
     }
-    /// The layout's part of the generated WGSL block: the constants and functions its
-    /// WGSL file expects, as literals, with the choices of `options`.
+    /// The layout's part of the generated module `table_constants`: the constants and
+    /// functions its WGSL file expects, as literals, with the choices of `options`.
     fn wgsl_constants(&self, options: &LookupShaderOptions) -> String;
+    /// Further generated modules that the layout's WGSL file requires by name (see
+    /// `crate::shader`), as (name, source); none by default.
+    fn wgsl_modules(&self, _options: &LookupShaderOptions) -> Vec<(&'static str, String)> {
+        Vec::new()
+    }
     /// The textures the WGSL file binds, built from the planes.
     fn textures(&self, planes: &[Plane]) -> Vec<TextureData>;
+    /// How far the layout's WGSL lookup may be from the f64 lookup `cpu` (= F by
+    /// [`Self::terms`] and the thread albedos `albedo`) at a pair above the horizon, per
+    /// channel ([`gpu_bound`] derives the sources). Every layout declares its own; the GPU
+    /// test of every registered layout asserts it.
+    fn gpu_error_bound(
+        &self,
+        planes: &[Plane],
+        albedo: [DVec3; 2],
+        wi: DVec3,
+        wo: DVec3,
+        cpu: DVec3,
+    ) -> gpu_bound::GpuErrorBound;
     fn as_any(&self) -> &dyn Any;
 }
 
@@ -375,6 +392,19 @@ impl Table {
     /// The lookup geometry as the layout's own type `G`, if it is one.
     pub fn geometry_as<G: TableLookup>(&self) -> Option<&G> {
         self.lookup.as_any().downcast_ref()
+    }
+
+    /// How far this table's WGSL lookup may be from [`Table::lookup`]'s `cpu` at a pair
+    /// ([`TableLookup::gpu_error_bound`]; below the horizon, where both are 0, the floor).
+    pub fn gpu_error_bound(&self, wi: DVec3, wo: DVec3, cpu: DVec3) -> gpu_bound::GpuErrorBound {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return gpu_bound::GpuErrorBound {
+                per_channel: gpu_bound::floor(cpu),
+                on_fold: false,
+            };
+        }
+        self.lookup
+            .gpu_error_bound(&self.planes, self.albedo, wi, wo, cpu)
     }
 
     /// Bytes of texel data as stored (f16 channels).

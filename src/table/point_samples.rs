@@ -1,9 +1,9 @@
 //! Single tangent samples of one thread in f32, for many direction pairs at once: the CPU
-//! twin of `shaders/sample.wgsl` (`cloth_sample_pair`, `cloth_sample_terms`), line for
+//! twin of `shaders/model/tangent_sample.wgsl` (`cloth_sample_pair`, `cloth_sample_terms`), line for
 //! line the same formulas, written once for [`Lanes`] (one pair in `f32`, eight in
 //! `wide::f32x8`). `split_frame` evaluates a thread's point masses (its flat segments)
 //! with it. It follows the f64 kernel `ThreadModel::sample` of `src/model/patch.rs`, in the
-//! forms that keep their accuracy in f32 (see `shaders/sample.wgsl`), with [`fast_math`]'s
+//! forms that keep their accuracy in f32 (see `shaders/model/tangent_sample.wgsl`), with [`fast_math`]'s
 //! atan2 and exp; `tests/table.rs` bounds the difference through the whole lookup.
 //!
 //! Where a sample contributes nothing (a direction faces away from it, or a projection is

@@ -1,5 +1,6 @@
-//! The resonant quadrature's WGSL kernel (`shaders/resonant.wgsl`) specialised for a fabric:
-//! the rule's constants and, per thread, `cloth_resonant_means_j(wi, wo)`, the thread's curve
+//! The resonant quadrature's WGSL kernel (`shaders/model/resonant_quadrature.wgsl`)
+//! specialised for a fabric: the rule's constants (the generated module
+//! [`crate::shader::RESONANT_RULES`] that the kernel requires) and, per thread, `cloth_resonant_means_j(wi, wo)`, the thread's curve
 //! means (⟨reflection⟩, ⟨transmission⟩, ⟨P⟩) of `ThreadModel::means` with
 //! `Integration::Resonant(nodes)`, in f32.
 //!
@@ -18,10 +19,6 @@ use crate::model::resonant::{
     ResonantNodes, SPLIT_TOLERANCE, TAIL_MASS,
 };
 use std::fmt::Write;
-
-/// The kernel template (after `shaders/sample.wgsl`, before nothing: it defines no entry
-/// point and no `cloth_brdf`).
-pub const RESONANT_KERNEL_WGSL: &str = include_str!("../../shaders/resonant.wgsl");
 
 /// The rule's constants for the reweighting width σu of `options` and `nodes`: the
 /// thresholds of `src/model/resonant.rs`, the node counts and the Gauss–Legendre rules they

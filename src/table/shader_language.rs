@@ -4,7 +4,8 @@
 //! three.js: GLSL; Metal: MSL).
 //!
 //! A shader language needs an entry point to translate anything, so the lookup is translated
-//! together with a compute kernel, `eval_pairs_main` (shaders/eval_pairs.wgsl): per
+//! together with a compute kernel, `eval_pairs_main` (shaders/gpu/eval_pairs.wgsl, composed
+//! with the lookup by [`super::wgsl::lookup_composer`]): per
 //! invocation k it evaluates `cloth_brdf(eval_pairs[2k], eval_pairs[2k + 1])` (wi, wo) into
 //! `eval_results[k]`. Take `cloth_brdf` and the declarations it uses into your own shader;
 //! the kernel evaluates the lookup for a list of pairs as it is. Bindings keep the WGSL's
@@ -16,11 +17,11 @@
 //! (buffer, texture and sampler indices in declaration order).
 
 use super::Table;
-use super::wgsl::{LookupShaderOptions, lookup_wgsl_with};
+use super::wgsl::{LookupShaderOptions, lookup_composer, lookup_wgsl_with};
 use std::fmt;
 
-/// The compute kernel translated with the lookup.
-const KERNEL_WGSL: &str = include_str!("../../shaders/eval_pairs.wgsl");
+/// The registered module of the compute kernel translated with the lookup.
+pub const KERNEL_MODULE: &str = "gpu/eval_pairs";
 /// Its entry point.
 pub const KERNEL_ENTRY: &str = "eval_pairs_main";
 
@@ -72,11 +73,12 @@ pub fn lookup_shader(
     language: ShaderLanguage,
     options: &LookupShaderOptions,
 ) -> Result<String, String> {
-    let wgsl = lookup_wgsl_with(table, options);
     if language == ShaderLanguage::Wgsl {
-        return Ok(wgsl);
+        return Ok(lookup_wgsl_with(table, options));
     }
-    let source = format!("{wgsl}\n{KERNEL_WGSL}");
+    let source = lookup_composer(table, options)
+        .compose(&[KERNEL_MODULE])
+        .map_err(|e| e.to_string())?;
     let module = naga::front::wgsl::parse_str(&source).map_err(|e| {
         format!(
             "the generated WGSL does not parse: {}",

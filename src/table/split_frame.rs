@@ -50,19 +50,19 @@
 //! four table axes at once; pairs below 1° (about 3.5% of uniform pairs) carried 82–94% of
 //! the highlight squared error of crepe, both satins and shot silk. The CPU's f32 lookup
 //! evaluates the band in f64 (`ThreadModel::means`), the WGSL by the shared kernel
-//! (`shaders/resonant.wgsl`, specialised by [`super::resonant_kernel`]) in f32.
+//! (`shaders/model/resonant_quadrature.wgsl`, specialised by [`super::resonant_kernel`]) in f32.
 //!
 //! # GPU textures
 //! The sloped tables as thread_frame arranges them (bindings 4 and 5, 3D, only for threads
 //! that have one) and their masking planes in one array texture (binding 6, layer = the
 //! thread's position among those with a table). Per light: two filtered fetches per sloped
 //! table and one per masking plane (0–6 in all: linen and velvet 6, crepe, satin and shot
-//! silk 3), plus one evaluation of the shared sample kernel (`shaders/sample.wgsl`) per
+//! silk 3), plus one evaluation of the shared sample kernel (`shaders/model/tangent_sample.wgsl`) per
 //! point mass (linen and velvet 0, crepe 3, satin 4, satin back 5, shot silk 3);
 //! in the horizon band, the resonant kernel instead of the sloped tables' fetches. A GPU
 //! skips that branch where no lane of a warp takes it; a software rasteriser (lavapipe)
 //! runs the kernel, masked, in every pixel, which made split_frame's frame 3–8× thread_frame's
-//! there (measured in the README, "Lookup against the direct and resonant shaders"). So the
+//! there (measured in docs/performance.md#split_frames-horizon-band-on-lavapipe). So the
 //! band can be left out of the shader (`LookupShaderOptions::horizon_band`, which
 //! `GpuTable::new` does on a software adapter): the band's pairs then read the sloped tables
 //! like the others (the tables hold the function continued past the horizon), the shader
@@ -70,6 +70,7 @@
 
 use super::axis::AxisF32;
 use super::fast_math::Lanes;
+use super::gpu_bound::{self, GpuErrorBound};
 use super::point_samples::{PointSamples, PointSums};
 use super::resonant_kernel::{resonant_rules_wgsl, resonant_thread_wgsl};
 use super::thread_frame::{self, AxisPlan, LocatedPairs, ThreadGeometry};
@@ -186,18 +187,6 @@ impl LayoutUnit for SplitFrame {
 
     fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup> {
         Arc::new(Geometry::new(fabric, resolution))
-    }
-
-    fn wgsl_source(&self) -> &'static str {
-        concat!(
-            include_str!("../../shaders/thread_frame_sample.wgsl"),
-            "\n",
-            include_str!("../../shaders/sample.wgsl"),
-            "\n",
-            include_str!("../../shaders/resonant.wgsl"),
-            "\n",
-            include_str!("../../shaders/split_frame.wgsl")
-        )
     }
 }
 
@@ -600,15 +589,11 @@ impl TableLookup for Geometry {
 
     fn wgsl_constants(&self, options: &LookupShaderOptions) -> String {
         let mut out = coverage_wgsl(self.coverage, self.gap);
-        // shaders/resonant.wgsl is part of the layout's source and needs the rules' constants
-        // even where no pair calls it (no horizon band).
-        out += "// The resonant quadrature of the sloped segments in the horizon band.\n";
-        out += &resonant_rules_wgsl(&self.options, HORIZON_BAND_NODES);
         let mut any = false;
         for (j, _) in self.tabulated() {
             let _ = writeln!(
                 out,
-                "@group(0) @binding({}) var cloth_split_table{}: texture_3d<f32>;",
+                "@group(CLOTH_BRDF_GROUP) @binding({}) var cloth_split_table{}: texture_3d<f32>;",
                 4 + j,
                 j + 1
             );
@@ -616,12 +601,23 @@ impl TableLookup for Geometry {
         }
         if any {
             out += "// ⟨P⟩ of the sloped segments, one layer per tabulated thread.\n\
-                    @group(0) @binding(6) var cloth_split_masking: texture_2d_array<f32>;\n";
+                    @group(CLOTH_BRDF_GROUP) @binding(6) var cloth_split_masking: \
+                    texture_2d_array<f32>;\n";
         }
         for j in 0..2 {
             out += &self.thread_wgsl(j, options.horizon_band);
         }
         out
+    }
+
+    /// shaders/model/resonant_quadrature.wgsl, which the layout's file requires, needs the
+    /// rules' constants even where no pair calls it (no horizon band).
+    fn wgsl_modules(&self, _options: &LookupShaderOptions) -> Vec<(&'static str, String)> {
+        let rules = format!(
+            "// The resonant quadrature of the sloped segments in the horizon band.\n{}",
+            resonant_rules_wgsl(&self.options, HORIZON_BAND_NODES)
+        );
+        vec![(crate::shader::RESONANT_RULES, rules)]
     }
 
     fn textures(&self, planes: &[Plane]) -> Vec<TextureData> {
@@ -640,6 +636,59 @@ impl TableLookup for Geometry {
             textures.push(thread_frame::masking_texture(&masking));
         }
         textures
+    }
+
+    /// The sloped tables' interpolation errors propagated to F as for thread_frame (their
+    /// ⟨P⟩ weighted by the sloped share; none in the horizon band), plus the f32 sample
+    /// kernel's relative error for the point masses and the band's resonant quadrature
+    /// ([`gpu_bound`] point 4).
+    fn gpu_error_bound(
+        &self,
+        planes: &[Plane],
+        albedo: [DVec3; 2],
+        wi: DVec3,
+        wo: DVec3,
+        cpu: DVec3,
+    ) -> GpuErrorBound {
+        let floor = gpu_bound::floor(cpu);
+        let sums = [0, 1].map(|j| self.thread_sums(planes, j, wi, wo));
+        let q = self.gap * wo.z + (0..2).map(|j| self.coverage[j] * sums[j][2]).sum::<f64>();
+        let mut total = floor;
+        if q <= 0.0 {
+            return GpuErrorBound {
+                per_channel: total,
+                on_fold: false,
+            };
+        }
+        total += cpu.abs() * gpu_bound::KERNEL_RELATIVE;
+        let mut folded = false;
+        if self.in_horizon_band(wi, wo) {
+            return GpuErrorBound {
+                per_channel: total,
+                on_fold: false,
+            };
+        }
+        for (j, slopes) in self.tabulated() {
+            let (t, m) = self
+                .plane_indices(j)
+                .expect("a tabulated thread has planes");
+            let [r, tr, p, c2] = slopes.geometry.sample(&planes[t], &planes[m], wi, wo);
+            let (errors, fold) =
+                gpu_bound::thread_errors(&slopes.geometry, &planes[t], &planes[m], wi, wo);
+            folded |= fold != [0.0; 2];
+            let a = self.coverage[j] * slopes.weight;
+            let c = c2.max(1e-8);
+            let d_r = a * p / (c * q);
+            let d_t = albedo[j] * (a * p / q);
+            let d_p = (DVec3::splat(r / c) + albedo[j] * tr - cpu) * (a / q);
+            total += DVec3::splat(d_r * (errors[0] + fold[0]))
+                + d_t.abs() * (errors[1] + fold[1])
+                + d_p.abs() * errors[2];
+        }
+        GpuErrorBound {
+            per_channel: total,
+            on_fold: folded,
+        }
     }
 
     fn as_any(&self) -> &dyn Any {

@@ -66,6 +66,7 @@
 use super::BatchLanes;
 use super::axis::{Axis, AxisF32, Warp};
 use super::fast_math::{self, Lanes};
+use super::gpu_bound::{self, GpuErrorBound};
 use super::wgsl::{LookupShaderOptions, coverage_wgsl, wgsl_f32};
 use super::{
     BATCH_LANES, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, quadrilinear_corners,
@@ -142,14 +143,6 @@ impl LayoutUnit for ThreadFrame {
 
     fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup> {
         Arc::new(Geometry::new(fabric, resolution))
-    }
-
-    fn wgsl_source(&self) -> &'static str {
-        concat!(
-            include_str!("../../shaders/thread_frame_sample.wgsl"),
-            "\n",
-            include_str!("../../shaders/thread_frame.wgsl")
-        )
     }
 }
 
@@ -413,7 +406,7 @@ impl ThreadGeometry {
 
     /// Where `L::WIDTH` pairs (`wi`, `wo` of that length) fall in this thread's tables: the
     /// first half of [`Self::sample`] in f32 (the arithmetic of
-    /// `shaders/thread_frame_sample.wgsl`, with [`fast_math`] for atan2 and asin; `fast` are
+    /// `shaders/table/thread_geometry.wgsl`, with [`fast_math`] for atan2 and asin; `fast` are
     /// this thread's axes in f32, the 4D axes, then the masking axis), lane by lane the
     /// same operations: one pair in `f32`, or eight in SIMD registers (`wide::f32x8`), which
     /// pays because the angles of a lookup are chains of dependent divisions and
@@ -497,7 +490,7 @@ impl ThreadGeometry {
     }
 
     /// The WGSL function `name(wi, wo) -> vec4<f32>` sampling this thread
-    /// (`cloth_sample_thread` of `shaders/thread_frame_sample.wgsl`: reflection, transmission,
+    /// (`cloth_sample_thread` of `shaders/table/thread_geometry.wgsl`: reflection, transmission,
     /// ⟨P⟩, cos²θd') from the 3D texture `table` and layer `layer` of the masking array
     /// texture `masking`, with its frame and axes as literals.
     pub fn wgsl_function(&self, name: &str, table: &str, masking: &str, layer: usize) -> String {
@@ -738,6 +731,55 @@ impl TableLookup for Geometry {
         textures
     }
 
+    /// Per thread: 3 filtered axes of the 4D table and 2 of ⟨P⟩, f32 coordinates, the fold
+    /// u = 0, and cos²θd' in f32, propagated to F ([`gpu_bound`] points 1 to 3).
+    fn gpu_error_bound(
+        &self,
+        planes: &[Plane],
+        albedo: [DVec3; 2],
+        wi: DVec3,
+        wo: DVec3,
+        cpu: DVec3,
+    ) -> GpuErrorBound {
+        let floor = gpu_bound::floor(cpu);
+        let mut samples = [[0.0f64; 4]; 2];
+        let mut errors = [[0.0; 3]; 2];
+        let mut fold = [[0.0; 2]; 2];
+        for (j, thread) in self.threads.iter().enumerate() {
+            samples[j] = self.sample_thread(planes, j, wi, wo);
+            (errors[j], fold[j]) =
+                gpu_bound::thread_errors(thread, &planes[j], &planes[2 + j], wi, wo);
+        }
+        let q: f64 = self.gap * wo.z
+            + (0..2)
+                .map(|j| self.coverage[j] * samples[j][2])
+                .sum::<f64>();
+        if q <= 0.0 {
+            return GpuErrorBound {
+                per_channel: floor,
+                on_fold: false,
+            };
+        }
+        let mut total = floor;
+        for j in 0..2 {
+            let [r, t, p, c2] = samples[j];
+            let a = self.coverage[j];
+            let c = c2.max(1e-8);
+            let d_r = a * p / (c * q);
+            let d_t = albedo[j] * (a * p / q);
+            let d_p = (DVec3::splat(r / c) + albedo[j] * t - cpu) * (a / q);
+            // f32 error of 1 − s² (absolute ~1e-7) in reflection/cos²θd'.
+            let c2_error = a * p * r / (c * q) * (1e-7 / c);
+            total += DVec3::splat(d_r * (errors[j][0] + fold[j][0]) + c2_error)
+                + d_t.abs() * (errors[j][1] + fold[j][1])
+                + d_p.abs() * errors[j][2];
+        }
+        GpuErrorBound {
+            per_channel: total,
+            on_fold: fold != [[0.0; 2]; 2],
+        }
+    }
+
     fn as_any(&self) -> &dyn Any {
         self
     }
@@ -926,7 +968,7 @@ mod tests {
     #[test]
     fn thread_texture_pads_u_blocks_with_edge_copies() {
         use crate::table::{Layout, PlaneSpec};
-        let fabric = crate::fabric_file::FabricSet::builtin().fabrics()[0].clone();
+        let fabric = crate::formats::fabric_toml::FabricSet::builtin().fabrics()[0].clone();
         let geometry = Geometry::new(&fabric, 4);
         let thread = &geometry.threads[0];
         let spec: PlaneSpec = Layout::THREAD_FRAME.plane_specs(&fabric, 4)[0].clone();

@@ -6,19 +6,19 @@ use super::controls::{
     self, Action, FrameStats, LightControl, OrbitControl, action_for_key, cycle_index,
     pixels_to_lines, step_samples,
 };
+use super::shading::FabricGpu;
+use super::surface::{Graphics, depth_view, os_message, surface_config};
 use super::timer::GpuTimer;
 use super::{Shading, ViewError, ViewSummary};
-use crate::environment::Environment;
-use crate::gpu::{GpuContext, GpuDirect, GpuResonant, GpuSampler, GpuTable};
-use crate::mesh::Mesh;
-use crate::model::{Fabric, ResonantNodes};
-use crate::render::job::load_table;
-use crate::render::{
-    Camera, DEPTH_FORMAT, FrameSettings, FrameTargets, GpuEnvironment, LightSource, Renderer,
-};
-use crate::sampling::Sampler;
+use crate::evaluator::table::load_fabric_table;
+use crate::evaluator::{EvaluationContext, GpuOptions};
+use crate::formats::table_exr::TableFile;
+use crate::gpu::{GpuContext, GpuSampler};
+use crate::lighting::Environment;
+use crate::model::Fabric;
+use crate::render::{Camera, FrameSettings, FrameTargets, GpuEnvironment, LightSource, Renderer};
 use crate::scene::Scene;
-use crate::table_file::TableFile;
+use crate::scene::mesh::Mesh;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -86,19 +86,10 @@ pub(super) fn run(setup: Setup, table: TableFile) -> Result<ViewSummary, ViewErr
     })
 }
 
-/// A winit error without the source location winit puts in front of OS errors
-/// ("os error at FILE:LINE: message"), which means nothing to a user.
-fn os_message(error: &dyn std::fmt::Display) -> String {
-    let text = error.to_string();
-    text.strip_prefix("os error at ")
-        .and_then(|rest| rest.split_once(": "))
-        .map_or_else(|| text.clone(), |(_, message)| message.to_string())
-}
-
 struct App {
     setup: Setup,
-    /// The first fabric's table, until the window's device has it and, with an environment
-    /// light, until its sampler is built from it.
+    /// The first fabric's table, read before the window opens, until the window's device
+    /// has it.
     first_table: Option<TableFile>,
     orbit: OrbitControl,
     light: LightControl,
@@ -115,36 +106,6 @@ struct App {
     last_title: Instant,
     graphics: Option<Graphics>,
     error: Option<ViewError>,
-}
-
-/// A fabric's GPU evaluations of F: the table lookup, and the direct shader once asked for.
-struct FabricGpu {
-    lookup: GpuTable,
-    /// The direct shader and its samples per thread.
-    direct: Option<(u32, GpuDirect)>,
-    /// The resonant shader (default nodes), once asked for.
-    resonant: Option<GpuResonant>,
-    /// The fabric's importance sampler (built from its table), once the environment light
-    /// needs it.
-    sampler: Option<GpuSampler>,
-}
-
-/// The window and everything drawn into it.
-struct Graphics {
-    window: Arc<Window>,
-    instance: wgpu::Instance,
-    surface: wgpu::Surface<'static>,
-    config: wgpu::SurfaceConfiguration,
-    gpu: GpuContext,
-    renderer: Renderer,
-    /// The scene's environment map, uploaded.
-    environment: Option<GpuEnvironment>,
-    depth: wgpu::TextureView,
-    /// Per fabric of the list, once loaded.
-    fabrics: Vec<Option<FabricGpu>>,
-    timer: Option<GpuTimer>,
-    /// Validation errors wgpu reported outside any error scope (its default handler panics).
-    uncaptured: Arc<Mutex<Option<String>>>,
 }
 
 impl App {
@@ -176,11 +137,14 @@ impl App {
         event_loop.exit();
     }
 
+    /// The spelling of the evaluator shown (`table`, `paper:32`, `resonant:6/5/2`).
     fn mode_label(&self) -> String {
-        match self.shading {
-            Shading::Lookup => "table lookup".to_string(),
-            Shading::Direct => format!("direct shader N={}", self.samples),
-            Shading::Resonant => format!("resonant shader nodes {}", ResonantNodes::DEFAULT),
+        self.shading.evaluator(self.samples).spelling()
+    }
+
+    fn gpu_options(&self) -> GpuOptions {
+        GpuOptions {
+            horizon_band: self.setup.horizon_band,
         }
     }
 
@@ -219,20 +183,21 @@ impl App {
             .first_table
             .take()
             .ok_or_else(|| ViewError::Render("the first table was already used".into()))?;
-        let first = FabricGpu {
-            lookup: GpuTable::with_horizon_band(&gpu, &table.table, self.setup.horizon_band)?,
-            direct: None,
-            resonant: None,
-            sampler: None,
-        };
-        self.first_table = Some(table);
+        let first = FabricGpu::with_table(&gpu, table, self.gpu_options())
+            .map_err(|e| ViewError::Render(e.to_string()))?;
         let environment = self
             .setup
             .environment
             .as_ref()
             .map(|map| GpuEnvironment::new(&gpu, map))
             .transpose()?;
-        let renderer = Renderer::new(&gpu, config.format, false, &self.setup.mesh, &first.lookup)?;
+        let renderer = Renderer::new(
+            &gpu,
+            config.format,
+            false,
+            &self.setup.mesh,
+            first.shown[0].brdf.as_ref(),
+        )?;
         let mut fabrics: Vec<Option<FabricGpu>> = self.setup.fabrics.iter().map(|_| None).collect();
         fabrics[self.current] = Some(first);
         let depth = depth_view(&gpu, &config);
@@ -254,37 +219,40 @@ impl App {
         Ok(graphics)
     }
 
-    /// Shows fabric `index` with `shading` (direct: `samples` per thread), loading what it
-    /// needs. On error nothing changes and the message says why.
+    /// Shows fabric `index` with `shading` (paper mode: `samples` per thread), preparing
+    /// what it needs. On error nothing changes and the message says why.
     fn show(&mut self, index: usize, shading: Shading, samples: u32) -> Result<(), String> {
+        let options = self.gpu_options();
+        let context = EvaluationContext {
+            tables: self.setup.tables.clone(),
+        };
+        let fabric = &self.setup.fabrics[index];
         let Some(g) = &mut self.graphics else {
             return Err("no window".into());
         };
-        let mut file = None;
-        if g.fabrics[index].is_none() {
-            let loaded = load_table(&self.setup.tables, &self.setup.fabrics[index])?;
-            let lookup =
-                GpuTable::with_horizon_band(&g.gpu, &loaded.table, self.setup.horizon_band)
-                    .map_err(|e| e.to_string())?;
-            g.fabrics[index] = Some(FabricGpu {
-                lookup,
-                direct: None,
-                resonant: None,
-                sampler: None,
-            });
-            file = Some(loaded);
-        }
-        let Some(f) = &mut g.fabrics[index] else {
-            return Err("fabric not loaded".into());
+        let f = match &mut g.fabrics[index] {
+            Some(f) => f,
+            slot => {
+                let file =
+                    load_fabric_table(&self.setup.tables, fabric).map_err(|e| e.to_string())?;
+                slot.insert(
+                    FabricGpu::with_table(&g.gpu, file, options).map_err(|e| e.to_string())?,
+                )
+            }
         };
         if let (true, Some(map)) = (self.environment_on, &g.environment) {
             if f.sampler.is_none() {
-                // The first table stays with the App until its sampler is built here.
-                let file = match file.take().or_else(|| self.first_table.take()) {
-                    Some(file) if file.table.fabric == self.setup.fabrics[index] => file,
-                    _ => load_table(&self.setup.tables, &self.setup.fabrics[index])?,
-                };
-                let sampler = Sampler::for_table(&file.table);
+                // The environment is sampled by the table's sampler whatever the mode shown.
+                let table = f
+                    .entry(
+                        &g.gpu,
+                        Shading::Lookup.evaluator(samples).as_ref(),
+                        fabric,
+                        &context,
+                        options,
+                    )
+                    .map_err(|e| e.to_string())?;
+                let sampler = f.shown[table].evaluation.sampler();
                 f.sampler = Some(GpuSampler::new(&g.gpu, &sampler).map_err(|e| e.to_string())?);
             }
             if let Some(sampler) = &f.sampler {
@@ -293,37 +261,15 @@ impl App {
                     .map_err(|e| e.to_string())?;
             }
         }
-        match shading {
-            Shading::Lookup => g
-                .renderer
-                .set_brdf(&g.gpu, &f.lookup)
-                .map_err(|e| e.to_string())?,
-            Shading::Direct => {
-                if f.direct.as_ref().map(|(n, _)| *n) != Some(samples) {
-                    let direct = GpuDirect::new(&g.gpu, &self.setup.fabrics[index], samples)
-                        .map_err(|e| format!("direct shader unavailable: {e}"))?;
-                    f.direct = Some((samples, direct));
-                }
-                if let Some((_, direct)) = &f.direct {
-                    g.renderer
-                        .set_brdf(&g.gpu, direct)
-                        .map_err(|e| format!("direct shader unavailable: {e}"))?;
-                }
-            }
-            Shading::Resonant => {
-                if f.resonant.is_none() {
-                    let fabric = &self.setup.fabrics[index];
-                    let resonant = GpuResonant::new(&g.gpu, fabric, ResonantNodes::DEFAULT)
-                        .map_err(|e| format!("resonant shader unavailable: {e}"))?;
-                    f.resonant = Some(resonant);
-                }
-                if let Some(resonant) = &f.resonant {
-                    g.renderer
-                        .set_brdf(&g.gpu, resonant)
-                        .map_err(|e| format!("resonant shader unavailable: {e}"))?;
-                }
-            }
-        }
+        let evaluator = shading.evaluator(samples);
+        let unavailable =
+            |e: &dyn std::fmt::Display| format!("{} unavailable: {e}", evaluator.spelling());
+        let i = f
+            .entry(&g.gpu, evaluator.as_ref(), fabric, &context, options)
+            .map_err(|e| unavailable(&e))?;
+        g.renderer
+            .set_brdf(&g.gpu, f.shown[i].brdf.as_ref())
+            .map_err(|e| unavailable(&e))?;
         let label = g.renderer.brdf_label().to_string();
         let changed = (index, shading, samples) != (self.current, self.shading, self.samples);
         self.current = index;
@@ -374,28 +320,28 @@ impl App {
                 }
             }
             Action::ToggleLightSpin => self.light.spinning = !self.light.spinning,
-            Action::ToggleDirect => {
+            Action::TogglePaper => {
                 let next = match shading {
-                    Shading::Direct => Shading::Lookup,
-                    Shading::Lookup | Shading::Resonant => Shading::Direct,
+                    Shading::Paper => Shading::Lookup,
+                    Shading::Lookup | Shading::Resonant => Shading::Paper,
                 };
                 self.show_or_report(index, next, samples);
             }
             Action::ToggleResonant => {
                 let next = match shading {
                     Shading::Resonant => Shading::Lookup,
-                    Shading::Lookup | Shading::Direct => Shading::Resonant,
+                    Shading::Lookup | Shading::Paper => Shading::Resonant,
                 };
                 self.show_or_report(index, next, samples);
             }
             Action::Samples(more) => {
                 let next = step_samples(samples, more);
-                if shading == Shading::Direct {
+                if shading == Shading::Paper {
                     self.show_or_report(index, shading, next);
                 } else {
-                    // Takes effect when the direct shader is next shown.
+                    // Takes effect when paper mode is next shown.
                     self.samples = next;
-                    println!("clothbake view: direct shader samples N={next}");
+                    println!("clothbake view: paper mode samples N={next}");
                 }
             }
             Action::ToggleEnvironment => {
@@ -546,114 +492,6 @@ impl App {
     }
 }
 
-impl Graphics {
-    fn configure(&self) {
-        if self.config.width > 0 && self.config.height > 0 {
-            self.surface.configure(&self.gpu.device, &self.config);
-        }
-    }
-
-    fn resize(&mut self, size: PhysicalSize<u32>) {
-        self.config.width = size.width;
-        self.config.height = size.height;
-        if size.width > 0 && size.height > 0 {
-            self.depth = depth_view(&self.gpu, &self.config);
-        }
-        self.configure();
-    }
-
-    /// After [`wgpu::CurrentSurfaceTexture::Lost`]: a new surface for the same window.
-    fn recreate_surface(&mut self) -> Result<(), ViewError> {
-        self.surface = self
-            .instance
-            .create_surface(self.window.clone())
-            .map_err(|e| ViewError::Display(format!("cannot recreate the wgpu surface: {e}")))?;
-        self.configure();
-        Ok(())
-    }
-
-    fn take_uncaptured(&self) -> Option<String> {
-        self.uncaptured.lock().ok().and_then(|mut slot| slot.take())
-    }
-}
-
-/// A depth buffer of the surface's size (at least 1×1).
-fn depth_view(gpu: &GpuContext, config: &wgpu::SurfaceConfiguration) -> wgpu::TextureView {
-    gpu.device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("view depth"),
-            size: wgpu::Extent3d {
-                width: config.width.max(1),
-                height: config.height.max(1),
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        })
-        .create_view(&wgpu::TextureViewDescriptor::default())
-}
-
-/// The surface configuration: an sRGB format when offered (the renderer then leaves the
-/// sRGB encoding to the format; otherwise its shader encodes), else an 8-bit UNORM one,
-/// else the first; a present mode that does not wait for vertical blank when there is one
-/// (the frame time then shows the cost of a frame, not the display's refresh), else Fifo.
-fn surface_config(
-    instance: &wgpu::Instance,
-    surface: &wgpu::Surface<'_>,
-    size: PhysicalSize<u32>,
-) -> Result<wgpu::SurfaceConfiguration, ViewError> {
-    // Capabilities belong to the adapter; `GpuContext` does not hand out its
-    // `wgpu::Adapter`, so ask for the same one again (same instance, surface and environment
-    // make the same choice).
-    let adapter = pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(
-        instance,
-        Some(surface),
-    ))
-    .map_err(|e| ViewError::Display(format!("no adapter can present to the window: {e}")))?;
-    let caps = surface.get_capabilities(&adapter);
-    let unorm = [
-        wgpu::TextureFormat::Bgra8Unorm,
-        wgpu::TextureFormat::Rgba8Unorm,
-    ];
-    let format = caps
-        .formats
-        .iter()
-        .copied()
-        .find(|f| f.is_srgb())
-        .or_else(|| caps.formats.iter().copied().find(|f| unorm.contains(f)))
-        .or_else(|| caps.formats.first().copied())
-        .ok_or_else(|| {
-            ViewError::Display(format!(
-                "adapter {} cannot present to this window (no surface formats)",
-                adapter.get_info().name
-            ))
-        })?;
-    let present_mode = [wgpu::PresentMode::Mailbox, wgpu::PresentMode::Immediate]
-        .into_iter()
-        .find(|m| caps.present_modes.contains(m))
-        .unwrap_or(wgpu::PresentMode::Fifo);
-    Ok(wgpu::SurfaceConfiguration {
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        format,
-        width: size.width,
-        height: size.height,
-        present_mode,
-        desired_maximum_frame_latency: 2,
-        alpha_mode: caps
-            .alpha_modes
-            .first()
-            .copied()
-            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-        view_formats: vec![],
-        // The renderer writes display-referred sRGB (tone mapped to [0, 1]).
-        color_space: wgpu::SurfaceColorSpace::Srgb,
-    })
-}
-
 impl ApplicationHandler for App {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.graphics.is_some() || self.error.is_some() {
@@ -727,19 +565,5 @@ impl ApplicationHandler for App {
             }
             _ => {}
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::os_message;
-
-    #[test]
-    fn os_errors_lose_their_source_location() {
-        assert_eq!(
-            os_message(&"os error at /src/x11/mod.rs:788: Failed to open connection to X server"),
-            "Failed to open connection to X server"
-        );
-        assert_eq!(os_message(&"the event loop broke"), "the event loop broke");
     }
 }

@@ -51,7 +51,8 @@ pub enum Action {
         elevation_deg: f64,
     },
     ToggleLightSpin,
-    ToggleDirect,
+    /// Switch between the table lookup and paper mode in the shader (`GpuDirect`).
+    TogglePaper,
     /// Switch between the table lookup and the resonant shader (`GpuResonant`).
     ToggleResonant,
     /// Double (`true`) or halve the direct shader's samples.
@@ -94,7 +95,7 @@ pub fn action_for_key(key: &Key, shift: bool) -> Option<Action> {
             match c.to_ascii_lowercase() {
                 'q' => Some(Action::Quit),
                 'l' => Some(Action::ToggleLightSpin),
-                'd' => Some(Action::ToggleDirect),
+                'd' => Some(Action::TogglePaper),
                 'g' => Some(Action::ToggleResonant),
                 'e' => Some(Action::ToggleEnvironment),
                 'r' => Some(Action::ResetView),
@@ -371,7 +372,7 @@ mod tests {
             Some(Action::SelectFabric(5))
         );
         assert_eq!(action_for_key(&ch("0"), false), None);
-        assert_eq!(action_for_key(&ch("d"), false), Some(Action::ToggleDirect));
+        assert_eq!(action_for_key(&ch("d"), false), Some(Action::TogglePaper));
         assert_eq!(action_for_key(&ch("G"), true), Some(Action::ToggleResonant));
         assert_eq!(
             action_for_key(&ch("l"), false),

@@ -1,11 +1,12 @@
 //! `clothbake view`: an interactive window (winit + a wgpu surface) showing the scene's cloth
-//! shaded by table lookup ([`crate::gpu::GpuTable`]) or by the model evaluated in the shader
-//! ([`crate::gpu::GpuDirect`], paper mode with N samples per thread), so that the two can be
-//! compared live. Radiance is `Σ E·F(wi, wo)` over the scene's lights (MODEL.md), tone mapped
-//! as `render` does.
+//! shaded by the GPU form of an evaluator ([`crate::evaluator`]): the table's lookup, paper
+//! mode or the resonant quadrature in the shader, so that they can be compared live.
+//! Radiance is `Σ E·F(wi, wo)` over the scene's lights (docs/model.md#the-patch-transfer-f),
+//! tone mapped as `render` does.
 //!
 //! - [`controls`]: keys, mouse and frame statistics, without window or GPU.
-//! - `app`: the winit application: window, surface, event handling, drawing.
+//! - `app`: the winit application: event handling, the shading modes, drawing.
+//! - `surface`: the window's surface, depth buffer and the window system's errors.
 //! - `timer`: GPU time of the cloth pass from timestamp queries, read without stalling.
 //!
 //! Tables are read from a directory (`NAME.exr` per fabric, as `bake` writes them) and must
@@ -16,12 +17,16 @@
 
 mod app;
 pub mod controls;
+mod shading;
+mod surface;
+
+pub use shading::Shading;
 mod timer;
 
-use crate::fabric_file::FabricSet;
-use crate::mesh::Mesh;
+use crate::evaluator::table::load_fabric_table;
+use crate::formats::fabric_toml::FabricSet;
 use crate::model::Fabric;
-use crate::render::job::load_table;
+use crate::scene::mesh::Mesh;
 use crate::scene::{MeshKind, MeshSpec, OrbitCamera, Scene};
 use std::path::{Path, PathBuf};
 
@@ -43,24 +48,13 @@ pub struct ViewOptions {
     pub mesh: Option<PathBuf>,
     /// Draw this many frames, then close (`None`: until the user quits).
     pub frames: Option<u32>,
-    /// Initial paper-mode samples per thread of the direct shader.
+    /// Initial samples per thread of the paper-mode shader.
     pub samples: u32,
     /// The shading at start (keys D and G switch it).
     pub shading: Shading,
     /// split_frame's horizon band in the lookup (`None`: on, except on a software
     /// rasteriser; [`crate::gpu::GpuTable::with_horizon_band`]).
     pub horizon_band: Option<bool>,
-}
-
-/// How the cloth is shaded.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Shading {
-    /// Table lookup from the fabric's baked table.
-    Lookup,
-    /// The model in the shader, paper mode ([`crate::gpu::GpuDirect`]).
-    Direct,
-    /// The resonant quadrature in the shader ([`crate::gpu::GpuResonant`], default nodes).
-    Resonant,
 }
 
 /// What a viewing session measured.
@@ -148,10 +142,11 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
         .iter()
         .map(|name| set.require(name).cloned())
         .collect::<Result<_, _>>()
-        .map_err(ViewError::Setup)?;
+        .map_err(|e| ViewError::Setup(e.to_string()))?;
     // The first table before any window: a missing or stale table is reported at once (the
     // others when selected).
-    let table = load_table(&options.tables, &fabrics[first]).map_err(ViewError::Setup)?;
+    let table = load_fabric_table(&options.tables, &fabrics[first])
+        .map_err(|e| ViewError::Setup(e.to_string()))?;
     let missing: Vec<&str> = names
         .iter()
         .filter(|n| !table_path(&options.tables, n).is_file())

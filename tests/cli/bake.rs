@@ -3,8 +3,8 @@
 
 use crate::common::*;
 
+use clothbake::formats::table_exr::read_table;
 use clothbake::table::wgsl::{LookupShaderOptions, lookup_wgsl_with};
-use clothbake::table_file::read_table;
 
 use std::process::{Command, Output};
 use std::time::Duration;
@@ -44,7 +44,7 @@ fn unchanged_fabrics_are_not_baked_again_and_changed_ones_are() {
     let fabrics = dir.join("fabrics.toml");
     std::fs::write(
         &fabrics,
-        clothbake::fabric_file::BUILTIN_FABRICS_TOML.replace("kd = 0.1", "kd = 0.2"),
+        clothbake::formats::fabric_toml::BUILTIN_FABRICS_TOML.replace("kd = 0.1", "kd = 0.2"),
     )
     .unwrap();
     let mut changed = args.to_vec();

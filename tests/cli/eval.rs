@@ -184,7 +184,8 @@ fn bad_arguments_and_fabric_files_exit_non_zero() {
     }
     let dir = temp_dir("cli");
     let path = dir.join("bad.toml");
-    let text = clothbake::fabric_file::BUILTIN_FABRICS_TOML.replacen("kd = 0.3", "kd = 3.0", 1);
+    let text =
+        clothbake::formats::fabric_toml::BUILTIN_FABRICS_TOML.replacen("kd = 0.3", "kd = 3.0", 1);
     std::fs::write(&path, text).unwrap();
     for args in [vec!["fabrics"], vec!["eval", "--fabric", "linen_plain"]] {
         let mut args = args.clone();
@@ -225,7 +226,7 @@ fn eval_streams_many_lines_in_order() {
     let patch = Patch::new(&fabric("velvet"), Integration::Paper(1));
     for i in [0, 1, 4095, 4096, 77_777, count - 1] {
         let z = 0.05 + 0.9 * (i as f64 / count as f64);
-        let unit = |v| clothbake::eval_stream::unit_direction(v, "w").unwrap();
+        let unit = |v| clothbake::formats::json_lines::unit_direction(v, "w").unwrap();
         let expected = patch.eval(unit([0.1, 0.2, z]), unit([-0.2, 0.1, 0.7]));
         assert_eq!(parse_f(lines[i]), expected.to_array(), "line {}", i + 1);
     }
@@ -379,4 +380,71 @@ fn bad_environments_are_refused_by_name() {
         "{}",
         stderr(&out)
     );
+}
+
+/// `--evaluator` spells every rule the older options select, with the same values, and a bad
+/// spelling is refused by name.
+#[test]
+fn evaluator_spellings_match_the_older_options() {
+    let input = "{\"wi\":[0.2,0.1,0.9],\"wo\":[-0.3,0.2,0.8]}\n{\"wi\":[0.7,0,0.3],\"wo\":[-0.6,0.1,0.5]}\n";
+    for (spelling, older) in [
+        ("direct", vec![]),
+        ("paper:8", vec!["--samples", "8"]),
+        ("paper", vec!["--integration", "paper"]),
+        (
+            "resonant:3/2/2",
+            vec![
+                "--integration",
+                "resonant",
+                "--surface-nodes",
+                "3",
+                "--volume-nodes",
+                "2",
+                "--base-nodes",
+                "2",
+            ],
+        ),
+    ] {
+        let run = |extra: &[&str]| {
+            let mut args = vec!["eval", "--fabric", "polyester_satin_charmeuse"];
+            args.extend_from_slice(extra);
+            let out = clothbake(&args, input);
+            assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+            String::from_utf8(out.stdout).unwrap()
+        };
+        let new = run(&["--evaluator", spelling]);
+        assert_eq!(new, run(&older), "--evaluator {spelling} against {older:?}");
+        assert_eq!(new.lines().count(), 2);
+    }
+    for (spelling, expected) in [
+        ("nearest", "unknown evaluator 'nearest'"),
+        ("paper:0", "paper[:N]"),
+        ("resonant:6/5", "resonant[:S/V/B]"),
+        ("table:missing.exr", "missing.exr"),
+    ] {
+        let out = clothbake(
+            &["eval", "--fabric", "velvet", "--evaluator", spelling],
+            input,
+        );
+        assert!(!out.status.success(), "{spelling} accepted");
+        assert!(
+            stderr(&out).contains(expected),
+            "{spelling}: {}",
+            stderr(&out)
+        );
+    }
+    // The new spelling and the older options are one choice: both at once is an error.
+    let out = clothbake(
+        &[
+            "eval",
+            "--fabric",
+            "velvet",
+            "--evaluator",
+            "direct",
+            "--samples",
+            "4",
+        ],
+        input,
+    );
+    assert!(!out.status.success());
 }

@@ -1,11 +1,11 @@
-//! Helpers shared by the integration tests, and the curated list of MODEL.md's numerically
+//! Helpers shared by the integration tests, and the curated list of the model's numerically
 //! hard cases that every stability test runs.
 #![allow(dead_code)] // each test binary uses a different subset
 
-use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
-use clothbake::fabric_file::FabricSet;
+use clothbake::formats::fabric_toml::FabricSet;
 #[cfg(feature = "runtime")]
 use clothbake::gpu::{GpuBrdf, GpuContext, evaluate_pairs};
+use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 #[cfg(feature = "runtime")]
 use clothbake::model::Patch;
 use clothbake::model::{Fabric, Thread};
@@ -277,7 +277,7 @@ fn with_threads(base: &Fabric, name: &str, edit: impl Fn(&mut Thread)) -> Fabric
     f
 }
 
-/// The stressed fabric variants of MODEL.md "Where the numbers get hard".
+/// The stressed fabric variants of docs/model.md#hard-numerical-cases.
 pub fn stressed_fabrics() -> Vec<Fabric> {
     let linen = fabric("linen_plain");
     let satin = fabric("polyester_satin_charmeuse");

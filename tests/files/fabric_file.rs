@@ -2,7 +2,7 @@
 //! name the fabric, the thread and the field.
 
 use crate::common;
-use clothbake::fabric_file::{FabricFileError, FabricSet};
+use clothbake::formats::fabric_toml::{FabricFileError, FabricSet};
 use proptest::prelude::*;
 
 const NAMES: [&str; 6] = [
@@ -195,7 +195,7 @@ fn oversized_and_missing_files_are_rejected_before_reading() {
     let dir = common::temp_dir("fabric");
     let big = dir.join("big.toml");
     let file = std::fs::File::create(&big).unwrap();
-    file.set_len(clothbake::fabric_file::MAX_FABRIC_FILE_BYTES + 1)
+    file.set_len(clothbake::formats::fabric_toml::MAX_FABRIC_FILE_BYTES + 1)
         .unwrap();
     assert!(matches!(
         FabricSet::load(&big),

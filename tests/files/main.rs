@@ -1,4 +1,4 @@
-//! File formats read as untrusted input: fabric files (`clothbake::fabric_file`).
+//! File formats read as untrusted input: fabric files (`clothbake::formats::fabric_toml`).
 //!
 //! One binary per part of the crate, each module a former test file: each integration-test
 //! binary is another release link of the whole crate with wgpu, naga, exr and ash.

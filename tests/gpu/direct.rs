@@ -1,4 +1,4 @@
-//! The GPU direct evaluation (`shaders/direct.wgsl` through `clothbake::gpu::GpuDirect`, f32)
+//! The GPU direct evaluation (`shaders/gpu/paper.wgsl` through `clothbake::gpu::GpuDirect`, f32)
 //! against the CPU's `Patch::new(fabric, Integration::Paper(N)).eval` (f64), for the six
 //! built-in fabrics, N ∈ {1, 8, 32}, on uniform pairs, highlight pairs and the curated hard
 //! cases of tests/common (which add the stressed fabric variants).

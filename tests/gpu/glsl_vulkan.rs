@@ -10,8 +10,8 @@ use crate::common::*;
 
 use ash::vk;
 use clothbake::bake::bake;
-use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::gpu::{GpuTable, evaluate_pairs};
+use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::table::shader_language::{ShaderLanguage, lookup_shader};
 use clothbake::table::wgsl::LookupShaderOptions;
 use clothbake::table::{Layout, Table, TextureData};
@@ -27,7 +27,7 @@ use std::process::Command;
 const BOUND: f64 = 1e-5;
 /// Pairs per set (uniform and highlight).
 const PAIRS: usize = 4000;
-/// `@workgroup_size` of the kernel (shaders/eval_pairs.wgsl).
+/// `@workgroup_size` of the kernel (shaders/gpu/eval_pairs.wgsl).
 const WORKGROUP_SIZE: u32 = 64;
 
 /// A Vulkan device with a compute queue, and what the test allocates on it.

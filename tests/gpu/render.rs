@@ -15,13 +15,13 @@
 use crate::common::*;
 
 use clothbake::bake::bake;
-use clothbake::fabric_file::FabricSet;
+use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::gpu::{GpuBrdf, GpuConstant, GpuContext, GpuDirect, GpuResonant, GpuTable};
-use clothbake::mesh::Mesh;
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use clothbake::render::image::{LinearImage, image_error, read_linear_exr, write_linear_exr};
 use clothbake::render::{FrameSettings, Headless, LightSource, reference};
 use clothbake::scene::Scene;
+use clothbake::scene::mesh::Mesh;
 use clothbake::table::{Layout, Table};
 use glam::{DVec3, Vec3};
 use std::path::{Path, PathBuf};

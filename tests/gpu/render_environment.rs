@@ -1,4 +1,4 @@
-//! The environment light of the renderer (shaders/render.wgsl, `render_environment_light`):
+//! The environment light of the renderer (shaders/render/renderer.wgsl, `render_environment_light`):
 //! the white furnace (radiance 1 everywhere, lights off: each pixel is the fabric's
 //! directional albedo at its wo) and the studio environment against the CPU reference, for
 //! every built-in fabric, on the device wgpu finds (lavapipe in CI; printed).
@@ -8,16 +8,16 @@
 
 use crate::common::*;
 
-use clothbake::accuracy::lookup_f32;
 use clothbake::bake::bake;
-use clothbake::environment::Environment;
 use clothbake::gpu::{GpuContext, GpuSampler, GpuTable};
+use clothbake::lighting::Environment;
+use clothbake::measure::accuracy::lookup_f32;
 use clothbake::render::image::{LinearImage, image_error};
 
-use clothbake::mesh::Mesh;
 use clothbake::render::reference::{self, ReferenceEnvironment};
 use clothbake::render::{FrameSettings, GBuffer, GpuEnvironment, Headless};
 use clothbake::sampling::Sampler;
+use clothbake::scene::mesh::Mesh;
 use clothbake::scene::{DEFAULT_ENVIRONMENT_SAMPLES, Scene};
 use clothbake::table::{Layout, Table};
 use glam::DVec3;

@@ -1,4 +1,4 @@
-//! The GPU resonant quadrature (`shaders/resonant.wgsl` through
+//! The GPU resonant quadrature (`shaders/model/resonant_quadrature.wgsl` through
 //! `clothbake::gpu::GpuResonant`, f32) against the CPU's
 //! `Patch::new(fabric, Integration::Resonant(nodes)).eval` (f64), pair by pair: the six
 //! built-in fabrics on uniform and highlight pairs, the curated hard cases of tests/common
@@ -13,7 +13,8 @@
 //! # The bound
 //! Per pair and channel, |GPU − CPU| ≤ R·|F| + A·max|F| (A = 1e-7, the f32 cancellation
 //! floor of w·n(α) as in tests/gpu/direct.rs), with R = BASE + REACH·δθh/σmin:
-//! - The sample itself is direct.wgsl's f32 kernel, whose error tests/gpu/direct.rs bounds
+//! - The sample itself is model/tangent_sample.wgsl's f32 kernel (paper mode's too), whose
+//!   error tests/gpu/direct.rs bounds
 //!   by 2e-5 + 6·δθh/σmin (δθh: the device's `atan2` error plus argument rounding).
 //! - On top, the node positions come from f32 θh, slope and Φ⁻¹. A node moved by δz (in
 //!   standard deviations) changes its term by ≈ |z|·δz relative, through the mismatch

@@ -1,4 +1,4 @@
-//! The WGSL fabric sampler (shaders/sampling.wgsl) on the device wgpu finds (lavapipe in
+//! The WGSL fabric sampler (shaders/sampling/fabric_sampler.wgsl) on the device wgpu finds (lavapipe in
 //! CI): its draws follow the CPU sampler's density (chi-square, every built-in fabric, the
 //! eight outgoing directions of the CPU test), and the density it returns is the CPU's.
 //!
@@ -104,7 +104,7 @@ fn wgsl_pdf_is_the_cpu_pdf() {
     let fabric = builtin().into_iter().find(|f| f.name == "velvet").unwrap();
     let sampler = Sampler::for_fabric(&fabric);
     let gpu = GpuSampler::new(&context, &sampler).unwrap();
-    let pairs = clothbake::direction_sets::uniform_pairs(20_000, 0x9df);
+    let pairs = clothbake::measure::direction_sets::uniform_pairs(20_000, 0x9df);
     let gpu_pdf = gpu
         .pdf(
             &context,

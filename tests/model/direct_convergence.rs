@@ -4,7 +4,7 @@
 //! elsewhere).
 
 use crate::common::*;
-use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
+use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::model::{Integration, Patch};
 use rayon::prelude::*;
 

@@ -1,7 +1,7 @@
-//! Invariants of the model's building blocks and of F (MODEL.md).
+//! Invariants of the model's building blocks and of F (docs/model.md).
 
 use crate::common::*;
-use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
+use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::model::lobes::{UnitAreaGaussian, fresnel_dielectric};
 use clothbake::model::patch::ThreadModel;
 use clothbake::model::{Integration, Patch};

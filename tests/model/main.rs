@@ -9,6 +9,7 @@
 mod common;
 
 mod direct_convergence;
+mod evaluators;
 mod invariants;
 mod properties;
 mod reference;

@@ -1,4 +1,5 @@
-//! The direct evaluation against an independent implementation of MODEL.md
+//! The direct evaluation against an independent implementation of the model
+//! (docs/model.md#independent-reference)
 //! (`tools/reference/ref.py`, written from the specification alone, numpy, 65,536 midpoints
 //! per thread, converged to 7e-6 relative). Its pair sets and values are in
 //! `tests/data/reference/`: 300 uniform and 300 highlight pairs per fabric and 68 hard pairs.
@@ -6,8 +7,8 @@
 //! Thresholds: the two implementations integrate differently (clipped intervals at ≤ 0.05°
 //! here, uniform midpoints there), each converged to about 1e-5, and agree to a relative RMS
 //! of at most 1.2e-6 and a per-pair difference of at most 3e-5 of the pair's brightest
-//! channel (measured; see `ABSOLUTE_FLOOR` for values near 0). The tests allow 1e-4 on both, the accuracy MODEL.md asks of a
-//! direct evaluation, which still fails on any formula-level difference (a wrong Fresnel
+//! channel (measured; see `ABSOLUTE_FLOOR` for values near 0). The tests allow 1e-4 on both,
+//! the accuracy docs/model.md#direct-evaluation asks of a direct evaluation, which still fails on any formula-level difference (a wrong Fresnel
 //! cosine or reweighting shifts values by percent).
 
 /// Values below this are compared absolutely: the grazing antiparallel hard pairs give F of
@@ -16,7 +17,7 @@
 const ABSOLUTE_FLOOR: f64 = 1e-9;
 
 use crate::common::*;
-use clothbake::eval_stream::parse_line;
+use clothbake::formats::json_lines::parse_line;
 use clothbake::model::{Integration, Patch};
 use glam::DVec3;
 use rayon::prelude::*;

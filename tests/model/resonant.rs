@@ -1,10 +1,10 @@
 //! The resonant quadrature (`Integration::Resonant`) against the converged direct rule: its
 //! error and cost on every built-in fabric, its convergence as nodes are added, and its
-//! behaviour on MODEL.md's hard cases and stressed fabrics.
+//! behaviour on the model's hard cases (docs/model.md#hard-numerical-cases) and stressed fabrics.
 
 use crate::common::*;
-use clothbake::accuracy::{HIGHLIGHT_SEED, Reference, UNIFORM_SEED};
-use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
+use clothbake::measure::accuracy::{HIGHLIGHT_SEED, Reference, UNIFORM_SEED};
+use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use glam::DVec3;
 use rayon::prelude::*;

@@ -1,4 +1,4 @@
-//! Stability on MODEL.md's hard cases: the curated list of tests/common and a dense sweep
+//! Stability on the model's hard cases (docs/model.md#hard-numerical-cases): the curated list of tests/common and a dense sweep
 //! of the hemisphere pair. Every value must be finite and non-negative.
 
 use crate::common::*;

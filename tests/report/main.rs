@@ -4,4 +4,5 @@
 //! binary is another release link of the whole crate with wgpu, naga, exr and ash.
 #![cfg(feature = "runtime")] // the wgpu runtime: not in `--no-default-features` builds
 
+mod render;
 mod run;

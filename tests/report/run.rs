@@ -2,7 +2,7 @@
 //! the report documents with finite figures, and the plots are valid PNGs with drawn curves.
 //! No timing is asserted (the machine's speed is not under test).
 
-use clothbake::fabric_file::FabricSet;
+use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::model::ResonantNodes;
 use clothbake::report::{ReportConfig, run};
 use clothbake::table::Layout;

@@ -4,3 +4,5 @@
 //! binary is another release link of the whole crate with wgpu, naga, exr and ash.
 
 mod feature_split;
+mod links;
+mod model_purity;

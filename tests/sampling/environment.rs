@@ -2,7 +2,7 @@
 //! CPU sampling that the GPU mirrors, the built-in environments and the `--env` words.
 
 use crate::common::temp_dir;
-use clothbake::environment::{
+use clothbake::lighting::{
     ContentError, Environment, EnvironmentError, EnvironmentSource, Level, MAX_SIDE,
     equirect_direction, equirect_uv,
 };
@@ -623,7 +623,7 @@ fn environment_sampler_draws_follow_its_density() {
     // draw's density is `pdf` at its direction, and the density integrates to 1 over the
     // sphere: the mean of 1/pdf over draws estimates the sphere's 4π (a standard error of
     // ~1% at 40,000 draws for this map; bound 3%), and a 1° grid of `pdf` sums to 1.
-    let sampler = clothbake::environment::EnvironmentSampler::new(&Environment::studio());
+    let sampler = clothbake::sampling::EnvironmentSampler::new(&Environment::studio());
     let n = 40_000;
     let mut inverse_sum = 0.0;
     for k in 0..n {
@@ -653,7 +653,7 @@ fn environment_sampler_draws_follow_its_density() {
                 (c as f64 + 0.5) / columns as f64,
                 (r as f64 + 0.5) / rows as f64,
             );
-            let d = clothbake::environment::equirect_direction(uv);
+            let d = clothbake::lighting::equirect_direction(uv);
             integral += sampler.pdf(d) * (t0.cos() - t1.cos()) * 2.0 * PI / columns as f64;
         }
     }

@@ -1,5 +1,5 @@
 //! Sampling and environment light on the CPU: the fabric sampler (`clothbake::sampling`)
-//! and environment maps (`clothbake::environment`).
+//! and environment maps (`clothbake::lighting`).
 //!
 //! One binary per part of the crate, each module a former test file: each integration-test
 //! binary is another release link of the whole crate with wgpu, naga, exr and ash.

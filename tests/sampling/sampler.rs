@@ -1,4 +1,4 @@
-//! The fabric sampler (src/sampling.rs) on the CPU: its draws follow its own density
+//! The fabric sampler (src/sampling/mod.rs) on the CPU: its draws follow its own density
 //! (chi-square, every built-in fabric, eight outgoing directions from the normal to 1° above
 //! the horizon), the density integrates to the accepted fraction, the build does not depend
 //! on the thread count, and it beats cosine sampling where the lobes are narrow.

@@ -9,7 +9,7 @@
 
 use crate::common::*;
 use clothbake::bake::bake;
-use clothbake::direction_sets::{highlight_pairs, uniform_pairs};
+use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::model::{Integration, Patch};
 use clothbake::table::Layout;
 use glam::DVec3;
@@ -138,12 +138,13 @@ fn split_frame_tables_meet_their_measured_error() {
     let layout = Layout::SPLIT_FRAME;
     for (name, bounds) in SPLIT_FRAME_BOUNDS {
         let fabric = fabric(name);
-        let reference = clothbake::accuracy::Reference::new(&fabric, 20_000);
+        let reference = clothbake::measure::accuracy::Reference::new(&fabric, 20_000);
         for ((resolution, max_bytes, target), [uniform, highlight, above_1]) in
             SPLIT_FRAME_TARGETS.into_iter().zip(bounds)
         {
             let table = bake(&fabric, layout, resolution, &|| {}).unwrap();
-            let error = reference.measure(|wi, wo| clothbake::accuracy::lookup_f32(&table, wi, wo));
+            let error = reference
+                .measure(|wi, wo| clothbake::measure::accuracy::lookup_f32(&table, wi, wo));
             println!(
                 "{name}: split_frame {resolution} {} KiB, relative RMS {:.2}% uniform, \
                  {:.2}% highlight, {:.2}% highlight ≥ 1°",

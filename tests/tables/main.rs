@@ -1,4 +1,4 @@
-//! Tables (`clothbake::table`, `clothbake::table_file`, `clothbake::bake`): the CPU lookup
+//! Tables (`clothbake::table`, `clothbake::formats::table_exr`, `clothbake::bake`): the CPU lookup
 //! of every layout, bakes, the EXR files, the default tables' accuracy against the direct
 //! evaluation, and the lookup's translations to other shading languages.
 //!

@@ -3,8 +3,8 @@
 
 use crate::common::*;
 use clothbake::bake::bake;
+use clothbake::formats::table_exr::{TableFileError, read_table, write_table};
 use clothbake::table::{Layout, Table, grid4d, split_frame, thread_frame};
-use clothbake::table_file::{TableFileError, read_table, write_table};
 
 fn small_table(name: &str, resolution: u32) -> Table {
     bake(&fabric(name), Layout::GRID4D, resolution, &|| {}).unwrap()
@@ -559,7 +559,7 @@ fn f32_lookup_follows_the_f64_lookup() {
 /// The batch lookup on pairs whose lanes mix directions above, on and below the horizon,
 /// for lengths that fill whole groups of eight lanes and leave remainders: every pair as
 /// its single lookup (bit for bit), and 0 wherever a direction is not above the horizon
-/// (MODEL.md's one-sided cloth), whatever the other lanes hold.
+/// (the model's one-sided cloth), whatever the other lanes hold.
 #[test]
 fn batch_lookup_matches_single_lookups_across_lanes_and_the_horizon() {
     let fabric = builtin()

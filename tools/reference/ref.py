@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Independent reference implementation of the microcylinder cloth model
-(Sadeghi et al. 2013) exactly as specified in MODEL.md (the physics contract) (defaults only).
+(Sadeghi et al. 2013) exactly as specified in the physics contract (restated in docs/model.md) (defaults only).
 
 F(fabric_name, wi, wo) -> RGB cosine-weighted patch transfer (direct evaluation).
 
@@ -45,7 +45,7 @@ def _thread(eta, scale, rgb, kd, gs, gv, a, offsets, lengths):
                 offsets=[o * DEG for o in offsets], lengths=list(lengths))
 
 
-# The paper's measured set, MODEL.md table (angles in degrees, A = scale x RGB).
+# The paper's measured set, fabric table of docs/model.md (angles in degrees, A = scale x RGB).
 FABRICS = {
     "linen_plain": [
         _thread(1.46, 0.3, (0.2, 0.8, 1.0), 0.3, 12, 24, 0.33, (-25, 25), (1,)),

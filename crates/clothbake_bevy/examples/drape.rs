@@ -170,7 +170,7 @@ fn setup(
     let tables = loaded.iter().map(|m| m.table.clone()).collect();
     let handles: Vec<Handle<ClothMaterial>> =
         loaded.into_iter().map(|m| materials.add(m)).collect();
-    let drape = clothbake::mesh::Mesh::from_spec(&scene.mesh).expect("the built-in drape");
+    let drape = clothbake::scene::mesh::Mesh::from_spec(&scene.mesh).expect("the built-in drape");
     commands.spawn((
         Mesh3d(meshes.add(cloth_mesh(&drape))),
         MeshMaterial3d(handles[current].clone()),
@@ -241,7 +241,7 @@ fn setup(
 /// clothbake's built-in studio as the view's environment map light.
 fn studio_light(images: &mut Assets<Image>) -> EnvironmentMapLight {
     let cubemap = images.add(environment_cubemap(
-        &clothbake::environment::Environment::studio(),
+        &clothbake::lighting::Environment::studio(),
         128,
     ));
     EnvironmentMapLight {

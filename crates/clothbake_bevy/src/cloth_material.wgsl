@@ -1,10 +1,12 @@
 // The fragment shader of `ClothMaterial` (src/material.rs): Bevy's forward pass, shading cloth
 // by a clothbake table. `ClothTable`'s loader (src/table_asset.rs) makes one shader per table:
-// this file with the table's specialised lookup (`clothbake::table::wgsl::lookup_wgsl_in_group`:
-// `cloth_brdf(wi, wo)` = F(wi, wo) of MODEL.md, its textures and sampler in the material's
-// bind group) put in place of the marker line below.
+// clothbake's composer (`clothbake::shader::Composer`) writes this file after what it requires
+// below: the table's specialised lookup (the module `brdf` of
+// `clothbake::table::wgsl::lookup_composer`: `cloth_brdf(wi, wo)` = F(wi, wo) of
+// docs/model.md, its textures and sampler in the material's bind group) and the fabric
+// sampler (shaders/sampling/fabric_sampler.wgsl of clothbake, with its constants).
 //
-// Per fragment, as `clothbake render` (shaders/render.wgsl): the thread frame (t = thread 1
+// Per fragment, as `clothbake render` (shaders/render/renderer.wgsl): the thread frame (t = thread 1
 // along the mesh's UV tangent, b = n × t, n), flipped to the side facing the viewer (two-sided
 // cloth); wi and wo in that frame; radiance L = Σ E·F(wi, wo)·shadow over Bevy's directional
 // and point lights, plus the ambient light L_a times the directional albedo ∫F dwi at wo (exact
@@ -13,6 +15,8 @@
 // units: a directional light's illuminance (lux), a point light's luminous intensity
 // (power/4π) times Bevy's inverse-square falloff with its range window. Then the camera's
 // exposure, and tone mapping where Bevy does it in the shader.
+//
+// requires: brdf, sampling/fabric_sampler
 
 #import bevy_pbr::{
     forward_io::VertexOutput,
@@ -26,14 +30,10 @@
 #import bevy_core_pipeline::tonemapping::tone_mapping
 #endif
 
-// CLOTHBAKE_TABLE_LOOKUP
-
 // The fabric's sampler (`clothbake::sampling::Sampler::data`, built from the table) and the
 // environment samples per fragment (x).
 @group(#{MATERIAL_BIND_GROUP}) @binding(9) var<storage, read> sampling_data: array<f32>;
 @group(#{MATERIAL_BIND_GROUP}) @binding(10) var<uniform> cloth_environment_samples: vec4<u32>;
-
-// CLOTHBAKE_SAMPLING
 
 // The directional albedo ∫F dwi (RGB) over wo in the cloth frame
 // (`clothbake::sampling::AlbedoMap`): x = azimuth/2π from thread 1, y = (elevation/(π/2))^(2/3)
@@ -69,7 +69,7 @@ fn cloth_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
 }
 
 // ∫ L_env(wi) F(wi, wo) dwi over the view's environment map light by filtered importance
-// sampling (shaders/render.wgsl's `render_environment_light`, on a cubemap): K draws of the
+// sampling (shaders/render/renderer.wgsl's `render_environment_light`, on a cubemap): K draws of the
 // fabric's sampler from one Hammersley set, each read at the mip level whose texels cover the
 // sample's solid angle 1/(K·pdf) (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a W × W
 // face. Bevy's maps are prefiltered for GGX roughness rather than box-filtered,

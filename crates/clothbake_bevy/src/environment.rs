@@ -6,7 +6,7 @@ use bevy::prelude::*;
 use bevy::render::render_resource::{
     Extent3d, TextureDimension, TextureFormat, TextureViewDescriptor, TextureViewDimension,
 };
-use clothbake::environment::Environment;
+use clothbake::lighting::Environment;
 use glam::DVec3;
 
 /// `environment` as an Rgba16Float cubemap of `side` × `side` faces (`side` a power of two)

@@ -12,7 +12,7 @@
 //!     mut meshes: ResMut<Assets<Mesh>>,
 //!     mut materials: ResMut<Assets<ClothMaterial>>,
 //! ) {
-//!     let drape = clothbake::mesh::Mesh::drape(160, 9, 0.1);
+//!     let drape = clothbake::scene::mesh::Mesh::drape(160, 9, 0.1);
 //!     commands.spawn((
 //!         Mesh3d(meshes.add(cloth_mesh(&drape))),
 //!         MeshMaterial3d(materials.add(ClothMaterial::load(&assets, "velvet.exr"))),
@@ -27,7 +27,8 @@
 //! - [`ClothMaterial`] binds them; its fragment shader sums F(wi, wo)·E over Bevy's
 //!   directional and point lights (shadows included), adds the ambient light times the
 //!   directional albedo, and the view's environment map light by filtered importance
-//!   sampling with the fabric's sampler. See the README's "Use in Bevy" for what is and is not supported.
+//!   sampling with the fabric's sampler. See this crate's README.md for what is and is
+//!   not supported.
 //! - [`environment_cubemap`] turns a clothbake environment map (the studio, or an
 //!   equirectangular `.hdr`/`.exr`) into a cubemap for Bevy's `EnvironmentMapLight`.
 //! - [`scene_light`] turns a clothbake scene light into a Bevy light in Bevy's units.

@@ -30,7 +30,7 @@ fn fragment(in: VertexOutput) -> @location(0) vec4<f32> {
 ";
 
 /// Importance samples per fragment of an environment map light, as `clothbake render`'s
-/// default: 4–7% from a converged reference on the studio map (README, "Environment light").
+/// default: 4–7% from a converged reference on the studio map (docs/sampling.md#measured).
 pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 64;
 
 /// Cloth shaded by a clothbake table: F(wi, wo) of the table's fabric under Bevy's

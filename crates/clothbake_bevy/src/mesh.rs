@@ -5,9 +5,9 @@ use bevy::mesh::{Indices, PrimitiveTopology};
 use bevy::prelude::*;
 
 /// A Bevy triangle mesh of `mesh` with positions, normals, UVs and tangents: the tangent
-/// (w = +1) is thread 1, so Bevy's bitangent sign·(n × t) is thread 2, as in MODEL.md's
+/// (w = +1) is thread 1, so Bevy's bitangent sign·(n × t) is thread 2, as in docs/model.md's
 /// frame (x = thread 1, y = n × x).
-pub fn cloth_mesh(mesh: &clothbake::mesh::Mesh) -> Mesh {
+pub fn cloth_mesh(mesh: &clothbake::scene::mesh::Mesh) -> Mesh {
     let vertices = &mesh.vertices;
     Mesh::new(
         PrimitiveTopology::TriangleList,

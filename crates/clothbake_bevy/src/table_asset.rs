@@ -11,7 +11,7 @@
 //! | `binding4` … `binding7` | [`Image`] | the layout's textures at those bindings (`TableLookup::textures`), f16; a 1-texel stand-in where the layout has none |
 //! | `albedo` | [`Image`] | the directional albedo ∫F dwi over wo (`clothbake::sampling::AlbedoMap`), for ambient light |
 //! | `sampling` | [`ShaderBuffer`] | the fabric's importance sampler built from the table (`clothbake::sampling::Sampler::data`), for environment map light |
-//! | `shader` | [`Shader`] | `cloth_material.wgsl` with the table's specialised lookup |
+//! | `shader` | [`Shader`] | `cloth_material.wgsl` composed with the table's specialised lookup and the fabric sampler |
 
 use bevy::asset::io::Reader;
 use bevy::asset::{AssetLoader, LoadContext, RenderAssetUsages};
@@ -23,18 +23,17 @@ use bevy::render::render_resource::{
 use bevy::render::storage::ShaderBuffer;
 use bevy::shader::Shader;
 use bevy::tasks::futures_lite::AsyncReadExt;
-use clothbake::sampling::{
-    ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap, SAMPLING_WGSL, Sampler,
-};
+use clothbake::formats::table_exr::{MAX_TABLE_FILE_BYTES, TableFileError, read_table_bytes};
+use clothbake::sampling::{ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap, Sampler};
+use clothbake::shader;
 use clothbake::table::TextureData;
-use clothbake::table::wgsl::{LookupShaderOptions, lookup_wgsl_in_group};
-use clothbake::table_file::{MAX_TABLE_FILE_BYTES, TableFileError, read_table_bytes};
+use clothbake::table::wgsl::{LookupShaderOptions, lookup_composer};
 
-/// The fragment shader template; the loader puts the table's lookup at this marker line.
-const TEMPLATE: &str = include_str!("cloth_material.wgsl");
-const LOOKUP_MARKER: &str = "// CLOTHBAKE_TABLE_LOOKUP";
-/// … and the sampler's constants and WGSL at this one.
-const SAMPLING_MARKER: &str = "// CLOTHBAKE_SAMPLING";
+/// The fragment shader, composed by clothbake's composer after the modules its header
+/// requires (the table's lookup and the fabric sampler).
+const MATERIAL_WGSL: &str = include_str!("cloth_material.wgsl");
+/// Its name as a generated module of the composer.
+const MATERIAL_MODULE: &str = "cloth_material";
 
 /// The table bindings a layout may use (`clothbake::table::TableLookup::textures`): 3D
 /// textures at 4 and 5, 2D array textures at 6 and 7.
@@ -146,7 +145,7 @@ impl AssetLoader for ClothTableLoader {
         let sampler = Sampler::for_table(table);
         let albedo = AlbedoMap::build(
             &sampler,
-            |wi, wo| clothbake::accuracy::lookup_f32(table, wi, wo),
+            |wi, wo| clothbake::measure::accuracy::lookup_f32(table, wi, wo),
             ALBEDO_SAMPLES,
         );
         let albedo = load_context.add_labeled_asset("albedo", albedo_image(&albedo));
@@ -160,17 +159,14 @@ impl AssetLoader for ClothTableLoader {
             ShaderBuffer::new(&data, RenderAssetUsages::RENDER_WORLD),
         );
 
-        let source = TEMPLATE
-            .replacen(
-                LOOKUP_MARKER,
-                &lookup_wgsl_in_group(table, "#{MATERIAL_BIND_GROUP}", &self.lookup),
-                1,
-            )
-            .replacen(
-                SAMPLING_MARKER,
-                &(Sampler::wgsl_constants() + SAMPLING_WGSL),
-                1,
-            );
+        // The table's bindings in the material's group, a value Bevy's preprocessor
+        // substitutes.
+        let source = lookup_composer(table, &self.lookup)
+            .brdf_group("#{MATERIAL_BIND_GROUP}")
+            .module(shader::SAMPLER_CONSTANTS, Sampler::wgsl_constants())
+            .module(MATERIAL_MODULE, MATERIAL_WGSL)
+            .compose(&[MATERIAL_MODULE])
+            .expect("the material's modules compose");
         let shader = load_context.add_labeled_asset(
             "shader",
             Shader::from_wgsl(source, format!("{path}#shader")),

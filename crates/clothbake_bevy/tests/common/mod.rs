@@ -32,10 +32,10 @@ pub const TEST_RESOLUTION: u32 = 16;
 /// Tables of `fabrics` (built-in names) in `dir`, at the default layout and
 /// [`TEST_RESOLUTION`]; tables already there and valid are kept.
 pub fn bake_tables(dir: &Path, fabrics: &[&str]) {
-    let set = clothbake::fabric_file::FabricSet::builtin();
+    let set = clothbake::formats::fabric_toml::FabricSet::builtin();
     for &name in fabrics {
         let path = dir.join(format!("{name}.exr"));
-        if clothbake::table_file::read_table(&path)
+        if clothbake::formats::table_exr::read_table(&path)
             .is_ok_and(|t| t.table.resolution == TEST_RESOLUTION)
         {
             continue;
@@ -48,7 +48,7 @@ pub fn bake_tables(dir: &Path, fabrics: &[&str]) {
             &|| {},
         )
         .expect("bake");
-        clothbake::table_file::write_table(&path, &table).expect("write table");
+        clothbake::formats::table_exr::write_table(&path, &table).expect("write table");
     }
 }
 

@@ -259,7 +259,7 @@ fn bevy_render(scene: &Scene, tables: &Path, case: &'static Case) -> (Vec<[f32; 
               mut meshes: ResMut<Assets<Mesh>>,
               mut materials: ResMut<Assets<ClothMaterial>>| {
             let mesh = meshes.add(cloth_mesh(
-                &clothbake::mesh::Mesh::from_spec(&scene.mesh).expect("drape"),
+                &clothbake::scene::mesh::Mesh::from_spec(&scene.mesh).expect("drape"),
             ));
             let camera = scene.camera;
             let [ex, ey, ez] = camera.eye().map(|v| v as f32);
@@ -308,7 +308,7 @@ fn bevy_render(scene: &Scene, tables: &Path, case: &'static Case) -> (Vec<[f32; 
                     ))
                     .id();
                 if case.lighting == Lighting::Environment {
-                    let studio = clothbake::environment::Environment::studio();
+                    let studio = clothbake::lighting::Environment::studio();
                     let cubemap = images.add(environment_cubemap(&studio, CUBE_SIDE));
                     commands.entity(camera_entity).insert(EnvironmentMapLight {
                         diffuse_map: cubemap.clone(),

@@ -26,7 +26,7 @@ fn bad_tables_fail_to_load_with_a_reason() {
     // the limit, not read whole.
     std::fs::File::create(dir.join("huge.exr"))
         .unwrap()
-        .set_len(4 * clothbake::table_file::MAX_TABLE_FILE_BYTES)
+        .set_len(4 * clothbake::formats::table_exr::MAX_TABLE_FILE_BYTES)
         .unwrap();
     let cases = [
         ("linen_plain.exr", None),
@@ -82,13 +82,14 @@ fn bad_tables_fail_to_load_with_a_reason() {
 #[test]
 fn split_frame_shader_follows_the_adapter() {
     let dir = scratch("loader-split-frame");
-    let fabric = clothbake::fabric_file::FabricSet::builtin()
+    let fabric = clothbake::formats::fabric_toml::FabricSet::builtin()
         .get("linen_plain")
         .expect("built-in fabric")
         .clone();
     let table = clothbake::bake::bake(&fabric, clothbake::table::Layout::SPLIT_FRAME, 16, &|| {})
         .expect("bake");
-    clothbake::table_file::write_table(&dir.join("linen_plain.exr"), &table).expect("write");
+    clothbake::formats::table_exr::write_table(&dir.join("linen_plain.exr"), &table)
+        .expect("write");
 
     let mut app = headless_app(&dir);
     app.finish();

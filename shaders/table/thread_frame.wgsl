@@ -1,0 +1,39 @@
+// Layout thread_frame: the lookup of src/table/thread_frame.rs (module doc,
+// `Geometry::lookup_terms`), after shaders/table/lookup.wgsl and
+// shaders/table/thread_geometry.wgsl (each thread's coordinates and interpolation). Texture
+// arrangement: `thread_frame::textures`.
+//
+// requires: table/lookup, table/thread_geometry, table_constants
+//
+// The generated `table_constants` define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap), and
+// `cloth_thread1(wi, wo)`, `cloth_thread2(wi, wo)` -> vec4<f32> (`Geometry::sample_thread`:
+// reflection, transmission, ⟨P⟩, cos²θd'), each a few lines calling
+// `cloth_thread_coordinates`, the warp functions below with literal parameters, and
+// `cloth_sample_thread`.
+
+@group(CLOTH_BRDF_GROUP) @binding(4) var cloth_thread1_table: texture_3d<f32>;
+@group(CLOTH_BRDF_GROUP) @binding(5) var cloth_thread2_table: texture_3d<f32>;
+// ⟨P⟩ of thread j in layer j − 1: column βi, row βo.
+@group(CLOTH_BRDF_GROUP) @binding(6) var cloth_masking_table: texture_2d_array<f32>;
+
+// `Geometry::lookup_terms`: (reflection, transmission1, transmission2), divided by Q.
+fn cloth_thread_frame_terms(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    let t1 = cloth_thread1(wi, wo);
+    let t2 = cloth_thread2(wi, wo);
+    let a = CLOTH_COVERAGE;
+    let reflection = a.x * t1.x * t1.z / max(t1.w, 1e-8) + a.y * t2.x * t2.z / max(t2.w, 1e-8);
+    let transmission = vec2<f32>(a.x * t1.y * t1.z, a.y * t2.y * t2.z);
+    let q = a.z * wo.z + a.x * t1.z + a.y * t2.z;
+    if q <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    return vec3<f32>(reflection, transmission) / q;
+}
+
+// F(wi, wo) by a thread_frame table; 0 below the horizon.
+fn cloth_thread_frame_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    if wi.z <= 0.0 || wo.z <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    return cloth_combine(cloth_thread_frame_terms(wi, wo));
+}

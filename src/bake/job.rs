@@ -1,0 +1,298 @@
+//! A bake job as the `bake` command runs it: for each fabric, choose the resolution (fixed,
+//! smallest meeting an error budget, or largest within a memory budget), skip tables that
+//! the manifest shows are up to date, bake, write atomically, record in the manifest.
+
+use crate::bake::manifest::{Entry, Manifest};
+use crate::bake::{BakeError, bake, bake_rows};
+use crate::formats::fabric_toml::{FabricFileError, FabricSet};
+use crate::formats::table_exr::{TableFileError, expected_hash, read_table, write_table};
+use crate::measure::accuracy::{TableError, measure};
+use crate::model::Fabric;
+use crate::scene::Scene;
+use crate::table::{Layout, Table};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Direction pairs per set used to choose a resolution for an error budget: enough for the
+/// relative RMS to be stable to about ±5% of its value (the estimate's spread between seeds,
+/// measured on the built-in fabrics), and cheap next to the bake.
+pub const BUDGET_VALIDATION_PAIRS: usize = 1000;
+
+/// How to choose each table's resolution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ResolutionChoice {
+    Fixed(u32),
+    /// The smallest resolution of the layout's ladder whose relative RMS error, on uniform
+    /// and on highlight pairs, is at most this.
+    MaxError(f64),
+    /// The largest resolution of the ladder whose texels fit in this many bytes.
+    MaxBytes(u64),
+}
+
+/// One bake job.
+#[derive(Clone, Debug)]
+pub struct BakeJob {
+    pub fabrics: Vec<Fabric>,
+    pub layout: Layout,
+    pub resolution: ResolutionChoice,
+    pub out: PathBuf,
+    /// Bake even when the manifest shows the table is up to date.
+    pub force: bool,
+}
+
+/// What a user asked to bake (the `bake` command's options), before [`BakeRequest::resolve`]
+/// turns it into a [`BakeJob`] by the bake policy.
+#[derive(Clone, Debug, Default)]
+pub struct BakeRequest {
+    /// Fabrics to bake by name; empty: every fabric of the fabric file.
+    pub fabrics: Vec<String>,
+    /// A scene whose fabrics, fabric file, layout and budget are used where the options
+    /// below leave them open.
+    pub scene: Option<Scene>,
+    /// A fabric file to use instead of the scene's or the built-in fabrics.
+    pub fabric_file: Option<PathBuf>,
+    pub layout: Option<Layout>,
+    pub resolution: Option<u32>,
+    /// The largest relative RMS error accepted (uniform and highlight pairs).
+    pub max_error: Option<f64>,
+    pub out: PathBuf,
+    pub force: bool,
+}
+
+/// The table layout baked when neither the options nor the scene name one.
+pub const DEFAULT_LAYOUT: Layout = Layout::THREAD_FRAME;
+
+impl BakeRequest {
+    /// The job the bake policy makes of this request:
+    /// - fabrics: the scene's (when a scene is given) or the ones named, else every fabric of
+    ///   the fabric file (the option's, else the scene's, else the built-in one);
+    /// - layout: the option's, else the scene's, else [`DEFAULT_LAYOUT`];
+    /// - resolution: a fixed `resolution` wins; else the smallest meeting `max_error` (the
+    ///   option's, else the scene budget's); else the largest within the scene's bytes per
+    ///   fabric; else the layout's default.
+    pub fn resolve(self) -> Result<BakeJob, BakeJobError> {
+        let scene = self.scene.as_ref();
+        let fabric_file = self
+            .fabric_file
+            .or_else(|| scene.and_then(|s| s.fabric_file.clone()));
+        let set = FabricSet::load_or_builtin(fabric_file.as_deref())?;
+        let names = scene.map_or(&self.fabrics, |s| &s.fabrics);
+        let fabrics = set.select(names)?;
+        let layout = self
+            .layout
+            .unwrap_or_else(|| scene.map_or(DEFAULT_LAYOUT, |s| s.layout_or(DEFAULT_LAYOUT)));
+        let budget = scene.map(|s| s.budget).unwrap_or_default();
+        let resolution = match (
+            self.resolution,
+            self.max_error.or(budget.max_error),
+            budget.max_bytes_per_fabric,
+        ) {
+            (Some(r), _, _) => ResolutionChoice::Fixed(r),
+            (None, Some(e), _) if e.is_finite() && e > 0.0 => ResolutionChoice::MaxError(e),
+            (None, Some(e), _) => return Err(BakeJobError::BadMaxError(e)),
+            (None, None, Some(bytes)) => ResolutionChoice::MaxBytes(bytes),
+            (None, None, None) => ResolutionChoice::Fixed(layout.default_resolution()),
+        };
+        Ok(BakeJob {
+            fabrics,
+            layout,
+            resolution,
+            out: self.out,
+            force: self.force,
+        })
+    }
+}
+
+/// What happened to one fabric.
+#[derive(Clone, Debug)]
+pub enum Outcome {
+    UpToDate {
+        path: PathBuf,
+        entry: Entry,
+    },
+    Baked {
+        path: PathBuf,
+        entry: Entry,
+        bytes: usize,
+        tried: Vec<(u32, TableError)>,
+    },
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum BakeJobError {
+    #[error(transparent)]
+    Bake(#[from] BakeError),
+    #[error(transparent)]
+    File(#[from] TableFileError),
+    #[error(transparent)]
+    Fabrics(#[from] FabricFileError),
+    #[error("--max-error must be a positive number, got {0}")]
+    BadMaxError(f64),
+    #[error("cannot write to {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error(
+        "fabric '{fabric}': no {layout} resolution up to {largest} meets a relative RMS error of {target} (it reaches {reached:.4})"
+    )]
+    BudgetUnreachable {
+        fabric: String,
+        layout: Layout,
+        largest: u32,
+        target: f64,
+        reached: f64,
+    },
+    #[error("no {layout} resolution fits {bytes} bytes per fabric (the smallest needs {smallest})")]
+    BudgetTooSmall {
+        layout: Layout,
+        bytes: u64,
+        smallest: usize,
+    },
+}
+
+fn worst(error: &TableError) -> f64 {
+    error.uniform.relative_rms.max(error.highlight.relative_rms)
+}
+
+/// The manifest entry for `path` if the table there is exactly what this job would bake.
+fn up_to_date(
+    manifest: &Manifest,
+    path: &Path,
+    fabric: &Fabric,
+    layout: Layout,
+    choice: ResolutionChoice,
+) -> Option<Entry> {
+    let file_name = path.file_name()?.to_string_lossy().into_owned();
+    let entry = manifest.tables.get(&file_name)?;
+    let resolution_ok = match choice {
+        ResolutionChoice::Fixed(r) => entry.resolution == r,
+        ResolutionChoice::MaxError(e) => entry.error.is_some_and(|(u, h)| u.max(h) <= e),
+        ResolutionChoice::MaxBytes(b) => layout.byte_size(fabric, entry.resolution) as u64 <= b,
+    };
+    let hash = expected_hash(fabric, layout, entry.resolution);
+    let file_ok = read_table(path).is_ok_and(|f| f.hash == hash);
+    (resolution_ok && entry.hash == hash && entry.layout == layout.name() && file_ok)
+        .then(|| entry.clone())
+}
+
+/// Makes the per-row callback of one bake from (fabric name, resolution, rows).
+pub type ProgressFactory = dyn Fn(&str, u32, u64) -> Box<dyn Fn() + Sync>;
+
+/// Removes temporaries that an interrupted bake of `file_name` left in `directory`
+/// (`.NAME.exr.PID.tmp` of another process).
+fn remove_stale_temporaries(directory: &Path, file_name: &str) {
+    let prefix = format!(".{file_name}.");
+    let ours = format!("{prefix}{}.tmp", std::process::id());
+    let Ok(entries) = std::fs::read_dir(directory) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let pid = name
+            .strip_prefix(&prefix)
+            .and_then(|rest| rest.strip_suffix(".tmp"));
+        if pid.is_some_and(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()))
+            && name != ours
+        {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Runs `job`; `progress(fabric, resolution, rows)` returns the per-row callback of one bake.
+pub fn run(
+    job: &BakeJob,
+    progress: &ProgressFactory,
+    on_outcome: &mut dyn FnMut(&Fabric, &Outcome),
+) -> Result<(), BakeJobError> {
+    std::fs::create_dir_all(&job.out).map_err(|source| BakeJobError::Io {
+        path: job.out.clone(),
+        source,
+    })?;
+    let mut manifest = Manifest::load(&job.out);
+    let layout = job.layout;
+    for fabric in &job.fabrics {
+        let path = job.out.join(format!("{}.exr", fabric.name));
+        remove_stale_temporaries(&job.out, &format!("{}.exr", fabric.name));
+        if !job.force
+            && let Some(entry) = up_to_date(&manifest, &path, fabric, layout, job.resolution)
+        {
+            on_outcome(fabric, &Outcome::UpToDate { path, entry });
+            continue;
+        }
+        let started = Instant::now();
+        let bake_at = |resolution: u32| -> Result<Table, BakeError> {
+            let on_row = progress(
+                &fabric.name,
+                resolution,
+                bake_rows(fabric, layout, resolution),
+            );
+            bake(fabric, layout, resolution, &*on_row)
+        };
+        let mut tried = Vec::new();
+        let (table, error) = match job.resolution {
+            ResolutionChoice::Fixed(r) => (bake_at(r)?, None),
+            ResolutionChoice::MaxBytes(bytes) => {
+                let fitting = layout
+                    .resolution_ladder()
+                    .into_iter()
+                    .rfind(|&r| layout.byte_size(fabric, r) as u64 <= bytes);
+                let r = fitting.ok_or(BakeJobError::BudgetTooSmall {
+                    layout,
+                    bytes,
+                    smallest: layout.byte_size(fabric, layout.resolution_ladder()[0]),
+                })?;
+                (bake_at(r)?, None)
+            }
+            ResolutionChoice::MaxError(target) => {
+                let mut chosen = None;
+                for r in layout.resolution_ladder() {
+                    let table = bake_at(r)?;
+                    let error = measure(&table, fabric, BUDGET_VALIDATION_PAIRS);
+                    tried.push((r, error));
+                    if worst(&error) <= target {
+                        chosen = Some((table, Some(error)));
+                        break;
+                    }
+                }
+                chosen.ok_or_else(|| BakeJobError::BudgetUnreachable {
+                    fabric: fabric.name.clone(),
+                    layout,
+                    largest: *layout.resolution_ladder().last().unwrap_or(&0),
+                    target,
+                    reached: tried
+                        .iter()
+                        .map(|(_, e)| worst(e))
+                        .fold(f64::INFINITY, f64::min),
+                })?
+            }
+        };
+        let hash = write_table(&path, &table)?;
+        let entry = Entry {
+            hash,
+            layout: layout.name().to_string(),
+            resolution: table.resolution,
+            bake_seconds: started.elapsed().as_secs_f64(),
+            threads: rayon::current_num_threads(),
+            error: error.map(|e| (e.uniform.relative_rms, e.highlight.relative_rms)),
+        };
+        manifest
+            .tables
+            .insert(format!("{}.exr", fabric.name), entry.clone());
+        manifest.save(&job.out).map_err(|source| BakeJobError::Io {
+            path: job.out.clone(),
+            source,
+        })?;
+        on_outcome(
+            fabric,
+            &Outcome::Baked {
+                path,
+                entry,
+                bytes: table.byte_size(),
+                tried,
+            },
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,174 @@
+//! Options and helpers shared by several commands.
+
+use clothbake::evaluator::direct::Direct;
+use clothbake::evaluator::table::TableLookup;
+use clothbake::evaluator::{
+    EvaluationContext, Evaluator, EvaluatorError, EvaluatorSpec, FabricEvaluator,
+};
+use clothbake::model::{Fabric, ResonantNodes};
+use clothbake::table::Layout;
+use std::path::Path;
+use std::sync::Arc;
+
+/// Options that do not fit together, named as the user wrote them.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct UsageError(pub String);
+
+/// The resonant quadrature's node counts (`eval --integration resonant`,
+/// `render --shader resonant`); each defaults to `ResonantNodes::DEFAULT`'s.
+#[derive(clap::Args)]
+pub struct NodeArgs {
+    /// Resonant quadrature: Gauss–Legendre nodes per curve segment on the surface lobe.
+    #[arg(long, value_parser = resonant_count)]
+    surface_nodes: Option<u32>,
+    /// Resonant quadrature: nodes per segment on the volume lobe.
+    #[arg(long, value_parser = resonant_count)]
+    volume_nodes: Option<u32>,
+    /// Resonant quadrature: nodes per segment for ⟨P⟩ and the kd term.
+    #[arg(long, value_parser = resonant_count)]
+    base_nodes: Option<u32>,
+}
+
+impl NodeArgs {
+    /// The node counts, or an error naming `selector` when any is given but `selected` is
+    /// false (the options belong to the resonant rule only).
+    pub fn nodes(&self, selected: bool, selector: &str) -> Result<ResonantNodes, UsageError> {
+        let given = [self.surface_nodes, self.volume_nodes, self.base_nodes];
+        if !selected && given.iter().any(Option::is_some) {
+            return Err(UsageError(format!(
+                "--surface-nodes, --volume-nodes and --base-nodes apply to {selector}"
+            )));
+        }
+        let d = ResonantNodes::DEFAULT;
+        Ok(ResonantNodes {
+            surface: self.surface_nodes.unwrap_or(d.surface),
+            volume: self.volume_nodes.unwrap_or(d.volume),
+            base: self.base_nodes.unwrap_or(d.base),
+        })
+    }
+}
+
+/// A resonant node count, 1..=ResonantNodes::MAX.
+fn resonant_count(text: &str) -> Result<u32, String> {
+    let n: u32 = text.parse().map_err(|e| format!("{e}"))?;
+    if (1..=ResonantNodes::MAX).contains(&n) {
+        Ok(n)
+    } else {
+        Err(format!("must be in 1..={}", ResonantNodes::MAX))
+    }
+}
+
+/// A table layout by its registered name.
+pub fn parse_layout(name: &str) -> Result<Layout, String> {
+    Layout::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = Layout::ALL.iter().map(|l| l.name()).collect();
+        format!("unknown layout '{name}'; layouts: {}", names.join(", "))
+    })
+}
+
+/// The evaluation of `fabric` that `--evaluator` names (`--table PATH` is
+/// `--evaluator table:PATH`), by default the converged direct rule.
+pub fn evaluation_of(
+    fabric: &Fabric,
+    evaluator: Option<&EvaluatorSpec>,
+    table: Option<&Path>,
+) -> Result<Box<dyn FabricEvaluator>, EvaluatorError> {
+    let evaluator: Arc<dyn Evaluator> = match (evaluator, table) {
+        (Some(spec), _) => spec.0.clone(),
+        (None, Some(path)) => Arc::new(TableLookup {
+            path: Some(path.to_path_buf()),
+        }),
+        (None, None) => Arc::new(Direct),
+    };
+    evaluator.prepare(fabric, &EvaluationContext::default())
+}
+
+#[cfg(feature = "runtime")]
+pub use runtime::*;
+
+/// Options of the commands that show a scene (`render`, `view`).
+#[cfg(feature = "runtime")]
+mod runtime {
+    use clothbake::lighting::{EnvironmentError, EnvironmentSource};
+    use clothbake::scene::{MAX_ENVIRONMENT_SAMPLES, Scene, SceneError};
+    use std::path::PathBuf;
+
+    /// How `render` and `view` build a table's lookup shader.
+    #[derive(clap::Args)]
+    pub struct LookupArgs {
+        /// split_frame's horizon band (the resonant quadrature for pairs within 1° of the
+        /// horizon): auto leaves it out on a software rasteriser (lavapipe), which runs its
+        /// kernel in every pixel, and keeps it on a GPU.
+        #[arg(long, value_enum, default_value_t = HorizonBandArg::Auto)]
+        horizon_band: HorizonBandArg,
+    }
+
+    #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+    enum HorizonBandArg {
+        Auto,
+        On,
+        Off,
+    }
+
+    impl LookupArgs {
+        /// `LookupShaderOptions::for_adapter`'s choice: `None` for auto.
+        pub fn horizon_band(&self) -> Option<bool> {
+            match self.horizon_band {
+                HorizonBandArg::Auto => None,
+                HorizonBandArg::On => Some(true),
+                HorizonBandArg::Off => Some(false),
+            }
+        }
+    }
+
+    /// What `render` and `view` show: a scene, its tables and optionally a user's mesh.
+    #[derive(clap::Args)]
+    pub struct SceneArgs {
+        /// Scene file (TOML): fabrics, camera, lights, mesh (default: tables/scene.toml's).
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Directory of baked tables (NAME.exr).
+        #[arg(long, default_value = "tables")]
+        pub tables: PathBuf,
+        /// OBJ mesh with UVs to show instead of the scene's (the camera is aimed at it).
+        #[arg(long)]
+        pub mesh: Option<PathBuf>,
+        /// Environment light: `default` (the built-in studio), `uniform` (radiance 1: the white
+        /// furnace), `none`, or an equirectangular .hdr or .exr file (default: the scene's).
+        #[arg(long, value_parser = parse_environment)]
+        env: Option<EnvironmentSource>,
+        /// Filtered importance samples per pixel of the environment light (default: the
+        /// scene's, 64 in the built-in scene).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_ENVIRONMENT_SAMPLES as i64))]
+        env_samples: Option<u32>,
+        /// Switch the scene's lights off (the environment alone).
+        #[arg(long)]
+        no_lights: bool,
+    }
+
+    impl SceneArgs {
+        /// The scene file's scene, or the built-in default scene, with the environment and
+        /// lights the options ask for.
+        pub fn load(&self) -> Result<Scene, SceneError> {
+            let mut scene = match &self.scene {
+                Some(path) => Scene::load(path)?,
+                None => Scene::builtin(),
+            };
+            if let Some(source) = &self.env {
+                scene.environment.source = source.clone();
+            }
+            if let Some(samples) = self.env_samples {
+                scene.environment.samples = samples;
+            }
+            if self.no_lights {
+                scene.lights.clear();
+            }
+            Ok(scene)
+        }
+    }
+
+    fn parse_environment(word: &str) -> Result<EnvironmentSource, String> {
+        word.parse().map_err(|e: EnvironmentError| e.to_string())
+    }
+}

@@ -1,0 +1,119 @@
+//! `clothbake render`: the scene's cloth rendered headless to PNG.
+
+use super::CommandResult;
+use super::options::{LookupArgs, NodeArgs, SceneArgs, UsageError};
+use clothbake::evaluator::constant::Constant;
+use clothbake::evaluator::paper::Paper;
+use clothbake::evaluator::resonant::Resonant;
+use clothbake::evaluator::table::TableLookup;
+use clothbake::evaluator::{Evaluator, EvaluatorSpec, GpuOptions};
+use clothbake::gpu::direct::DEFAULT_SAMPLES;
+use clothbake::render::job::{self, RenderJob};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    scene: SceneArgs,
+    /// Render only this fabric (default: every fabric of the scene, to OUT-STEM-NAME.png).
+    #[arg(long)]
+    fabric: Option<String>,
+    /// Output PNG.
+    #[arg(long)]
+    out: PathBuf,
+    #[arg(long, default_value_t = 1024)]
+    width: u32,
+    #[arg(long, default_value_t = 1024)]
+    height: u32,
+    /// Timed frames (after one warm-up frame); the median is printed.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    frames: u32,
+    /// How the shader evaluates F, in the spelling every command shares: table[:PATH] (the
+    /// default: each fabric's table in --tables), paper[:N], resonant[:S/V/B], constant.
+    #[arg(long, conflicts_with_all = ["shader", "samples", "surface_nodes", "volume_nodes", "base_nodes"])]
+    evaluator: Option<EvaluatorSpec>,
+    /// The older spelling of --evaluator: lookup (table), paper or direct (both paper mode
+    /// with --samples per thread), resonant (with the node options), constant.
+    #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
+    shader: ShaderArg,
+    /// Tangent samples per thread of --shader paper (default 32).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    samples: Option<u32>,
+    #[command(flatten)]
+    nodes: NodeArgs,
+    /// Also render the view on the CPU by direct evaluation: writes STEM-reference.png and
+    /// STEM-error.png and prints the image error. Under an environment light, F by the
+    /// resonant quadrature and the environment by Monte Carlo (--reference-samples).
+    #[arg(long)]
+    reference: bool,
+    /// Importance samples per pixel of the reference's environment term.
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    reference_samples: u32,
+    /// Also write the linear radiance (before exposure and tone mapping) as an OpenEXR
+    /// file of f16 RGBA beside each PNG (STEM.exr; alpha 1 on cloth, 0 on background).
+    #[arg(long)]
+    linear: bool,
+    #[command(flatten)]
+    lookup: LookupArgs,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum ShaderArg {
+    /// Table lookup from the baked tables.
+    Lookup,
+    /// The model itself in the shader, paper mode (--samples per thread).
+    Paper,
+    /// The same as paper: the name this shader had before the evaluators had one spelling.
+    Direct,
+    /// The resonant quadrature in the shader (--surface-nodes, --volume-nodes, --base-nodes).
+    Resonant,
+    /// F = 1/π: the frame's cost without BRDF work, the floor under any shader's time.
+    Constant,
+}
+
+/// The evaluator that `--shader`, `--samples` and the node options select.
+fn evaluator_of_shader_options(args: &Args) -> Result<Arc<dyn Evaluator>, UsageError> {
+    let nodes = args
+        .nodes
+        .nodes(args.shader == ShaderArg::Resonant, "--shader resonant")?;
+    Ok(match (args.shader, args.samples) {
+        (ShaderArg::Paper | ShaderArg::Direct, n) => Arc::new(Paper {
+            samples: n.unwrap_or(DEFAULT_SAMPLES),
+        }),
+        (_, Some(_)) => {
+            return Err(UsageError(
+                "--samples applies to --shader paper (or direct) only".into(),
+            ));
+        }
+        (ShaderArg::Resonant, None) => Arc::new(Resonant { nodes }),
+        (ShaderArg::Lookup, None) => Arc::new(TableLookup { path: None }),
+        (ShaderArg::Constant, None) => Arc::new(Constant),
+    })
+}
+
+pub fn run(args: Args) -> CommandResult {
+    let evaluator = match &args.evaluator {
+        Some(spec) => spec.0.clone(),
+        None => evaluator_of_shader_options(&args)?,
+    };
+    let job = RenderJob {
+        scene: args.scene.load()?,
+        fabric: args.fabric,
+        tables: args.scene.tables,
+        out: args.out,
+        width: args.width,
+        height: args.height,
+        frames: args.frames,
+        evaluator,
+        gpu_options: GpuOptions {
+            horizon_band: args.lookup.horizon_band(),
+        },
+        reference: args.reference,
+        reference_samples: args.reference_samples,
+        linear: args.linear,
+        mesh: args.scene.mesh,
+    };
+    job::run(&job, &mut |line| println!("{line}"))?;
+    Ok(())
+}

@@ -1,0 +1,49 @@
+//! `clothbake report`: speed against error for every built-in fabric.
+
+use super::CommandResult;
+use clothbake::formats::fabric_toml::FabricSet;
+use clothbake::report::{self, ReportConfig};
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Fewer resolutions, pairs and repetitions (every fabric still).
+    #[arg(long)]
+    quick: bool,
+    /// Output directory.
+    #[arg(long, default_value = "report")]
+    out: PathBuf,
+    /// Measure nothing: write OUT/REPORT.md again from OUT/report.json (after a change to
+    /// how the report is written).
+    #[arg(long, conflicts_with = "quick")]
+    rerender: bool,
+}
+
+pub fn run(args: Args) -> CommandResult {
+    if args.rerender {
+        report::rerender(&args.out)?;
+        println!(
+            "{}: REPORT.md written from {}",
+            args.out.display(),
+            report::JSON_FILE_NAME
+        );
+        return Ok(());
+    }
+    let fabrics = FabricSet::builtin().fabrics().to_vec();
+    let config = if args.quick {
+        ReportConfig::quick(fabrics)
+    } else {
+        ReportConfig::full(fabrics)
+    };
+    let command_line = std::env::args().collect();
+    let written = report::run(&config, &args.out, command_line, &mut |line| {
+        eprintln!("report: {line}")
+    })?;
+    println!(
+        "{}: {} in {:.0} s",
+        args.out.display(),
+        written.files.join(", "),
+        written.elapsed_seconds
+    );
+    Ok(())
+}

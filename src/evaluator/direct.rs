@@ -1,0 +1,59 @@
+//! `direct`: the converged direct rule (docs/model.md#direct-evaluation), the ground truth
+//! every table and rule is measured against. CPU only: its sample count per pair, in the
+//! thousands, has no place in a shader.
+
+use super::{
+    EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, ModelEvaluation,
+    parameter_error,
+};
+use crate::model::{Fabric, Integration};
+use std::sync::Arc;
+
+pub struct DirectUnit;
+
+impl EvaluatorUnit for DirectUnit {
+    fn name(&self) -> &'static str {
+        "direct"
+    }
+
+    fn syntax(&self) -> &'static str {
+        "direct"
+    }
+
+    fn summary(&self) -> &'static str {
+        "the converged direct rule, the ground truth (CPU only)"
+    }
+
+    fn parse(&self, parameter: Option<&str>) -> Result<Arc<dyn Evaluator>, EvaluatorError> {
+        match parameter {
+            None => Ok(Arc::new(Direct)),
+            Some(_) => Err(parameter_error(self, parameter, "takes no parameter")),
+        }
+    }
+}
+
+#[derive(Debug)]
+pub struct Direct;
+
+impl Evaluator for Direct {
+    fn spelling(&self) -> String {
+        "direct".into()
+    }
+
+    fn prepare(
+        &self,
+        fabric: &Fabric,
+        _context: &EvaluationContext,
+    ) -> Result<Box<dyn FabricEvaluator>, EvaluatorError> {
+        #[cfg(feature = "runtime")]
+        let gpu = Err("paper:N or resonant");
+        #[cfg(not(feature = "runtime"))]
+        let gpu = ();
+        Ok(ModelEvaluation::boxed(
+            self.spelling(),
+            fabric,
+            Integration::Direct,
+            gpu,
+        ))
+    }
+}

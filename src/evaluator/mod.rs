@@ -1,0 +1,324 @@
+//! Evaluators: the ways clothbake computes F(wi, wo) of a fabric, each one unit behind one
+//! interface, reached by one spelling on every command (`eval`, `sample`, `albedo`,
+//! `render`):
+//!
+//! | spelling | unit | F from |
+//! |---|---|---|
+//! | `direct` | [`direct`] | the converged direct rule, the ground truth (CPU only) |
+//! | `paper[:N]` | [`paper`] | the paper's renderer: N stratified tangent samples per thread |
+//! | `resonant[:S/V/B]` | [`resonant`] | the resonant quadrature with these nodes per segment |
+//! | `table[:PATH]`, `PATH.exr` | [`table`] | a baked table's lookup (default: the fabric's table in the tables directory) |
+//! | `constant` | [`constant`] | F = 1/π above the horizon: the cost floor of a frame, not a model |
+//!
+//! A unit implements [`EvaluatorUnit`] (its name, the syntax of its parameter, and parsing
+//! it into an [`Evaluator`]) and is one line in [`EVALUATORS`]. An [`Evaluator`] is a
+//! configured spelling; for a fabric it prepares a [`FabricEvaluator`] (reading and checking
+//! files on the CPU), whose CPU evaluation and, with the runtime, GPU form ([`GpuBrdf`]) the
+//! commands, the renderer and the tests use without naming the unit.
+
+pub mod constant;
+pub mod direct;
+pub mod paper;
+pub mod resonant;
+pub mod table;
+
+use crate::model::Fabric;
+use crate::sampling::Sampler;
+use glam::DVec3;
+use rayon::prelude::*;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::sync::Arc;
+
+#[cfg(feature = "runtime")]
+use crate::gpu::{GpuBrdf, GpuContext};
+
+/// The registry: every evaluator, by the name its spelling starts with.
+pub const EVALUATORS: &[&dyn EvaluatorUnit] = &[
+    &direct::DirectUnit,
+    &paper::PaperUnit,
+    &resonant::ResonantUnit,
+    &table::TableUnit,
+    &constant::ConstantUnit,
+];
+
+/// One kind of evaluation: its name and how its parameter is written and read.
+pub trait EvaluatorUnit: Sync {
+    /// The word a spelling starts with (`paper` in `paper:32`).
+    fn name(&self) -> &'static str;
+    /// The whole spelling with its parameter, for help texts (`paper[:N]`).
+    fn syntax(&self) -> &'static str;
+    /// What F comes from, in a few words.
+    fn summary(&self) -> &'static str;
+    /// The evaluator that `parameter` (the text after `name:`, `None` without a colon)
+    /// configures; the error names what is wrong with it.
+    fn parse(&self, parameter: Option<&str>) -> Result<Arc<dyn Evaluator>, EvaluatorError>;
+}
+
+/// Where evaluators find files that the spelling leaves implicit.
+#[derive(Clone, Debug)]
+pub struct EvaluationContext {
+    /// Directory of baked tables, `NAME.exr` per fabric (the `table` evaluator's default).
+    pub tables: PathBuf,
+}
+
+impl Default for EvaluationContext {
+    fn default() -> Self {
+        Self {
+            tables: PathBuf::from("tables"),
+        }
+    }
+}
+
+/// A configured evaluator: a unit with its parameter.
+pub trait Evaluator: Send + Sync + fmt::Debug {
+    /// The spelling that parses back to this evaluator (`paper:32`, `resonant:6/5/2`).
+    fn spelling(&self) -> String;
+    /// The evaluation of `fabric`, its files read and checked (no GPU work).
+    fn prepare(
+        &self,
+        fabric: &Fabric,
+        context: &EvaluationContext,
+    ) -> Result<Box<dyn FabricEvaluator>, EvaluatorError>;
+}
+
+/// Options of a GPU form that depend on the adapter rather than on the evaluator.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GpuOptions {
+    /// split_frame's horizon band in a table's lookup (`None`: on, except on a software
+    /// rasteriser; [`crate::gpu::GpuTable::with_horizon_band`]).
+    pub horizon_band: Option<bool>,
+}
+
+/// One fabric's evaluation of F, on the CPU and (with the runtime) on the GPU.
+pub trait FabricEvaluator: Send + Sync {
+    /// A short description for logs (`table thread_frame R=48`, `paper N=32`).
+    fn label(&self) -> String;
+    /// F(wi, wo), cosines included, for unit directions in the patch frame.
+    fn eval(&self, wi: DVec3, wo: DVec3) -> DVec3;
+    /// [`Self::eval`] of every pair, in order (in parallel; units override where a batch
+    /// is cheaper than its pairs).
+    fn eval_batch(&self, pairs: &[(DVec3, DVec3)]) -> Vec<DVec3> {
+        pairs
+            .par_iter()
+            .map(|&(wi, wo)| self.eval(wi, wo))
+            .collect()
+    }
+    /// The importance sampler that fits this evaluation (a table's own, or the fabric's).
+    fn sampler(&self) -> Sampler;
+    /// The GPU form of this evaluation, or [`EvaluatorError::NoGpuForm`].
+    #[cfg(feature = "runtime")]
+    fn gpu(
+        &self,
+        context: &GpuContext,
+        options: GpuOptions,
+    ) -> Result<Box<dyn GpuBrdf>, EvaluatorError>;
+}
+
+/// Why an evaluator could not be parsed, prepared or put on the GPU.
+#[derive(Debug, thiserror::Error)]
+pub enum EvaluatorError {
+    #[error("unknown evaluator '{spelling}'; evaluators: {known}")]
+    Unknown { spelling: String, known: String },
+    #[error("evaluator '{spelling}': {message} (write it as {syntax})")]
+    Parameter {
+        spelling: String,
+        syntax: &'static str,
+        message: String,
+    },
+    #[error("evaluator '{spelling}' has no GPU form; on the GPU use {instead}")]
+    NoGpuForm {
+        spelling: String,
+        instead: &'static str,
+    },
+    #[error(transparent)]
+    Table(table::TableError),
+    #[cfg(feature = "runtime")]
+    #[error(transparent)]
+    Gpu(#[from] crate::gpu::GpuError),
+}
+
+/// Parses an evaluator's spelling: `NAME` or `NAME:PARAMETER` of a registered unit, or a
+/// path ending in `.exr` (a table file).
+pub fn parse(spelling: &str) -> Result<Arc<dyn Evaluator>, EvaluatorError> {
+    let (name, parameter) = match spelling.split_once(':') {
+        Some((name, parameter)) => (name, Some(parameter)),
+        None => (spelling, None),
+    };
+    if let Some(unit) = EVALUATORS.iter().find(|u| u.name() == name) {
+        return unit.parse(parameter);
+    }
+    if Path::new(spelling)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+    {
+        return table::TableUnit.parse(Some(spelling));
+    }
+    Err(EvaluatorError::Unknown {
+        spelling: spelling.to_string(),
+        known: EVALUATORS
+            .iter()
+            .map(|u| u.syntax())
+            .collect::<Vec<_>>()
+            .join(", "),
+    })
+}
+
+/// An evaluator's spelling as a command-line value: parses with [`parse`], prints its
+/// [`Evaluator::spelling`].
+#[derive(Clone, Debug)]
+pub struct EvaluatorSpec(pub Arc<dyn Evaluator>);
+
+impl FromStr for EvaluatorSpec {
+    type Err = EvaluatorError;
+
+    fn from_str(spelling: &str) -> Result<Self, Self::Err> {
+        parse(spelling).map(Self)
+    }
+}
+
+impl fmt::Display for EvaluatorSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0.spelling())
+    }
+}
+
+/// How a model evaluation is put on the GPU: its unit's constructor, or what to use
+/// instead where it has none.
+#[cfg(feature = "runtime")]
+type GpuForm = Result<
+    Box<dyn Fn(&GpuContext, &Fabric) -> Result<Box<dyn GpuBrdf>, EvaluatorError> + Send + Sync>,
+    &'static str,
+>;
+#[cfg(not(feature = "runtime"))]
+type GpuForm = ();
+
+/// A fabric evaluated by the model itself with one integration rule (the `direct`, `paper`
+/// and `resonant` units), sampled by the fabric's own sampler.
+struct ModelEvaluation {
+    spelling: String,
+    fabric: Fabric,
+    patch: crate::model::Patch,
+    #[cfg_attr(not(feature = "runtime"), allow(dead_code))]
+    gpu: GpuForm,
+}
+
+impl ModelEvaluation {
+    fn boxed(
+        spelling: String,
+        fabric: &Fabric,
+        integration: crate::model::Integration,
+        gpu: GpuForm,
+    ) -> Box<dyn FabricEvaluator> {
+        Box::new(Self {
+            spelling,
+            fabric: fabric.clone(),
+            patch: crate::model::Patch::new(fabric, integration),
+            gpu,
+        })
+    }
+}
+
+impl FabricEvaluator for ModelEvaluation {
+    fn label(&self) -> String {
+        self.spelling.clone()
+    }
+
+    fn eval(&self, wi: DVec3, wo: DVec3) -> DVec3 {
+        self.patch.eval(wi, wo)
+    }
+
+    fn sampler(&self) -> Sampler {
+        Sampler::for_fabric(&self.fabric)
+    }
+
+    #[cfg(feature = "runtime")]
+    fn gpu(
+        &self,
+        context: &GpuContext,
+        _options: GpuOptions,
+    ) -> Result<Box<dyn GpuBrdf>, EvaluatorError> {
+        match &self.gpu {
+            Ok(build) => build(context, &self.fabric),
+            Err(instead) => Err(EvaluatorError::NoGpuForm {
+                spelling: self.spelling.clone(),
+                instead,
+            }),
+        }
+    }
+}
+
+/// The parameter error of `unit` for `parameter`.
+fn parameter_error(
+    unit: &dyn EvaluatorUnit,
+    parameter: Option<&str>,
+    message: impl Into<String>,
+) -> EvaluatorError {
+    EvaluatorError::Parameter {
+        spelling: match parameter {
+            Some(p) => format!("{}:{p}", unit.name()),
+            None => unit.name().to_string(),
+        },
+        syntax: unit.syntax(),
+        message: message.into(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_spelling_parses_back_to_itself() {
+        for spelling in [
+            "direct",
+            "paper:32",
+            "paper:1",
+            "resonant:6/5/2",
+            "resonant:3/2/2",
+            "table",
+            "table:tables/velvet.exr",
+            "constant",
+        ] {
+            let evaluator = parse(spelling).unwrap();
+            assert_eq!(evaluator.spelling(), spelling);
+            assert_eq!(parse(&evaluator.spelling()).unwrap().spelling(), spelling);
+        }
+        assert_eq!(parse("paper").unwrap().spelling(), "paper:32");
+        assert_eq!(
+            parse("resonant").unwrap().spelling(),
+            format!("resonant:{}", crate::model::ResonantNodes::DEFAULT)
+        );
+        assert_eq!(
+            parse("my tables/velvet.EXR").unwrap().spelling(),
+            "table:my tables/velvet.EXR"
+        );
+    }
+
+    #[test]
+    fn bad_spellings_name_what_is_wrong() {
+        let message = |s: &str| parse(s).unwrap_err().to_string();
+        assert!(message("nearest").contains("unknown evaluator 'nearest'"));
+        assert!(message("nearest").contains("paper[:N]"));
+        assert!(message("paper:0").contains("paper[:N]"));
+        assert!(message("paper:x").contains("'paper:x'"));
+        assert!(message("resonant:6/5").contains("resonant[:S/V/B]"));
+        assert!(message("resonant:0/5/2").contains("'resonant:0/5/2'"));
+        assert!(message("direct:3").contains("takes no parameter"));
+        assert!(message("table:").contains("empty"));
+    }
+
+    #[test]
+    fn every_registered_unit_has_a_distinct_name_and_parses_its_own_name() {
+        let mut names: Vec<&str> = EVALUATORS.iter().map(|u| u.name()).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), EVALUATORS.len());
+        for unit in EVALUATORS {
+            assert!(unit.syntax().starts_with(unit.name()));
+            let evaluator = parse(unit.name()).unwrap();
+            assert!(evaluator.spelling().starts_with(unit.name()));
+        }
+    }
+}

@@ -1,0 +1,12 @@
+//! File formats: everything clothbake reads from or writes to disk besides images, each read
+//! as untrusted input (sizes checked before allocating, the wrong field named).
+//!
+//! - [`table_exr`]: baked tables as OpenEXR files, written atomically, with a texel hash.
+//! - [`fabric_toml`]: fabric files and the built-in measured fabrics.
+//! - [`environment_map`]: equirectangular environment maps, Radiance `.hdr` and OpenEXR.
+//! - [`json_lines`]: the JSON-lines streams of `clothbake eval` and `clothbake sample`.
+
+pub mod environment_map;
+pub mod fabric_toml;
+pub mod json_lines;
+pub mod table_exr;

@@ -1,0 +1,500 @@
+//! Distant environment lighting: an equirectangular map of linear RGB radiance with a
+//! prefiltered mip chain, read from a Radiance `.hdr` or OpenEXR `.exr` file or generated in
+//! code (the built-in [`Environment::studio`] and the white furnace
+//! [`Environment::uniform`]), and sampled on the CPU exactly as the GPU samples it.
+//!
+//! # Equirectangular mapping
+//!
+//! World space is right-handed with +y up. A unit world direction `d` maps to
+//!
+//! ```text
+//! u = 0.5 + atan2(d.x, -d.z) / (2π)      in [0, 1]; 0 and 1 are the same seam
+//! v = acos(clamp(d.y, -1, 1)) / π        in [0, 1]; 0 is straight up (+y)
+//! ```
+//!
+//! so the middle of the map (u = 0.5) looks along -z, u = 0.75 along +x, u = 0.25 along -x
+//! and the seam u = 0 ≡ 1 along +z. Back: with `φ = 2π(u - 0.5)` and `θ = πv`,
+//! `d = (sin θ sin φ, cos θ, -sin θ cos φ)` ([`equirect_direction`]).
+//!
+//! Texel (col, row) of a `W`×`H` level covers u in `[col/W, (col+1)/W)` and v in
+//! `[row/H, (row+1)/H)`: row 0 is the top row (around +y), texel centres lie at
+//! `((col + 0.5)/W, (row + 0.5)/H)`. Texels are stored row-major from row 0.
+//!
+//! # Sampling
+//!
+//! [`Environment::radiance`] is the CPU mirror of WGSL's `textureSampleLevel` on this map
+//! with a sampler that repeats in u, clamps to the edge in v and filters linearly within
+//! and between levels: a shader port must use the same mapping and sampler. Level `l + 1`
+//! is `max(1, W_l / 2)`×`max(1, H_l / 2)` (the sizes a GPU gives a mip chain), down to 1×1;
+//! each of its texels is the solid-angle-weighted mean of the level-`l` texels it covers
+//! (see [`Environment::levels`]), so every level keeps the map's mean radiance.
+//!
+//! For filtered importance sampling the caller compares the solid angle of a sample with
+//! [`Environment::texel_solid_angle`]: a level's texels span four times the solid angle of
+//! the level above, so a sample of solid angle `Ωs` reads level `0.5·log2(Ωs / Ωp)`.
+//!
+//! # Untrusted files
+//!
+//! Environment files come from users: the dimensions are read from the header and checked
+//! against [`MAX_SIDE`] and [`MAX_TEXELS`] before any texel is allocated, a truncated or
+//! corrupt file is an error naming the file, and so is a texel that is not finite or is
+//! negative (naming the texel as well). Nothing read from a file panics.
+
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+use std::f64::consts::{PI, TAU};
+use std::path::{Path, PathBuf};
+
+use super::studio::studio_radiance;
+use crate::formats::environment_map::{read_exr, read_hdr};
+
+/// Largest width or height accepted, in texels: a 16K equirectangular map.
+pub const MAX_SIDE: u32 = 16384;
+
+/// Largest number of level-0 texels accepted: a 16384×8192 map, the largest equirectangular
+/// size in common use. It bounds what an untrusted header can make us allocate (1.5 GiB of
+/// f32 RGB, plus a third of that for the mip chain).
+pub const MAX_TEXELS: u64 = 16384 * 8192;
+
+/// The equirectangular coordinates `(u, v)` of a world direction (see the module
+/// documentation). `direction` need not be unit length; a zero or non-finite one maps to
+/// `(1, 0.5)` rather than to NaN.
+pub fn equirect_uv(direction: DVec3) -> DVec2 {
+    let d = direction.normalize_or_zero();
+    DVec2::new(
+        0.5 + d.x.atan2(-d.z) / TAU,
+        d.y.clamp(-1.0, 1.0).acos() / PI,
+    )
+}
+
+/// The unit world direction at equirectangular coordinates `uv`: the inverse of
+/// [`equirect_uv`].
+pub fn equirect_direction(uv: DVec2) -> DVec3 {
+    let phi = TAU * (uv.x - 0.5);
+    let theta = PI * uv.y;
+    let (sin_theta, cos_theta) = theta.sin_cos();
+    let (sin_phi, cos_phi) = phi.sin_cos();
+    DVec3::new(sin_theta * sin_phi, cos_theta, -sin_theta * cos_phi)
+}
+
+/// What is wrong with a map's size or texels, wherever they came from.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ContentError {
+    /// A side is zero or above [`MAX_SIDE`], or there are more than [`MAX_TEXELS`] texels.
+    #[error(
+        "{width}x{height} texels: each side must be 1..={MAX_SIDE} and the map at most {MAX_TEXELS} texels"
+    )]
+    Size { width: u64, height: u64 },
+    /// The texel slice does not hold `width·height` texels.
+    #[error("{count} texels given for a {width}x{height} map")]
+    Count {
+        width: u32,
+        height: u32,
+        count: usize,
+    },
+    /// A texel is not finite or has a negative channel.
+    #[error("texel ({col}, {row}) holds {value:?}: radiance must be finite and non-negative")]
+    Texel { col: u32, row: u32, value: [f32; 3] },
+}
+
+/// Why an environment could not be made or read.
+#[derive(Debug, thiserror::Error)]
+pub enum EnvironmentError {
+    /// The file could not be opened or read.
+    #[error("environment {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The file name ends in neither `.hdr` nor `.exr`.
+    #[error(
+        "environment {path}: unknown extension, expected .hdr (Radiance RGBE) or .exr (OpenEXR)"
+    )]
+    UnknownExtension { path: PathBuf },
+    /// The Radiance decoder rejected the file: a bad header, truncated or corrupt pixels.
+    #[error(
+        "environment {path}: not a readable Radiance .hdr file (truncated or corrupt): {source}"
+    )]
+    Hdr {
+        path: PathBuf,
+        source: hdr_image::ImageError,
+    },
+    /// The OpenEXR reader rejected the file: a bad header, truncated or corrupt pixels.
+    #[error("environment {path}: not a readable OpenEXR file (truncated or corrupt): {source}")]
+    Exr {
+        path: PathBuf,
+        source: exr::error::Error,
+    },
+    /// The file is readable but not usable as an environment (no RGB layer, subsampled
+    /// channels, an oversized header).
+    #[error("environment {path}: {message}")]
+    Invalid { path: PathBuf, message: String },
+    /// The file's size or texels are out of bounds.
+    #[error("environment {path}: {problem}")]
+    Content {
+        path: PathBuf,
+        problem: ContentError,
+    },
+    /// Texels given to [`Environment::from_texels`] are out of bounds.
+    #[error("environment texels: {0}")]
+    Texels(ContentError),
+    /// An empty `--env` word.
+    #[error("environment source is empty: give none, default, uniform or a file path")]
+    EmptySource,
+}
+
+/// One level of the mip chain: linear RGB radiance, row-major, row 0 the top row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Level {
+    width: u32,
+    height: u32,
+    texels: Vec<[f32; 3]>,
+}
+
+impl Level {
+    /// Width in texels (the u direction).
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in texels (the v direction).
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// The texels, row-major from the top row: what a GPU upload of this level takes.
+    pub fn texels(&self) -> &[[f32; 3]] {
+        &self.texels
+    }
+
+    /// The texel at column `col`, row `row`.
+    ///
+    /// # Panics
+    /// If `col >= width` or `row >= height`.
+    pub fn texel(&self, col: u32, row: u32) -> [f32; 3] {
+        assert!(col < self.width && row < self.height, "texel out of range");
+        self.texels[row as usize * self.width as usize + col as usize]
+    }
+
+    /// The exact solid angle of one texel in `row`: `(2π/W)·(cos θ_top − cos θ_bottom)`
+    /// (all texels of a row are alike; rows near the poles are small). Summed over the
+    /// level it is 4π.
+    pub fn texel_solid_angle(&self, row: u32) -> f64 {
+        band_solid_angle(row as u64, row as u64 + 1, self.height as u64) * TAU / self.width as f64
+    }
+
+    /// The solid-angle-weighted mean radiance over the sphere.
+    pub fn mean_radiance(&self) -> DVec3 {
+        let width = self.width as usize;
+        let sum: DVec3 = self
+            .texels
+            .chunks_exact(width)
+            .enumerate()
+            .map(|(row, texels)| {
+                let row_sum: DVec3 = texels.iter().map(|t| to_dvec3(*t)).sum();
+                row_sum * self.texel_solid_angle(row as u32)
+            })
+            .sum();
+        sum / (4.0 * PI)
+    }
+
+    /// Bilinear interpolation between the four texel centres around `uv`, repeating in u
+    /// and clamping in v: WGSL's linear sampler with `Repeat` in u, `ClampToEdge` in v.
+    fn bilinear(&self, uv: DVec2) -> DVec3 {
+        let (width, height) = (self.width as i64, self.height as i64);
+        let x = uv.x * self.width as f64 - 0.5;
+        let y = uv.y * self.height as f64 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        // Float-to-int casts saturate (NaN gives 0), so no coordinate can index out of range.
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let cols = [x0.rem_euclid(width), x0.saturating_add(1).rem_euclid(width)];
+        let rows = [
+            y0.clamp(0, height - 1),
+            y0.saturating_add(1).clamp(0, height - 1),
+        ];
+        let at = |c: i64, r: i64| to_dvec3(self.texels[(r * width + c) as usize]);
+        let top = at(cols[0], rows[0]).lerp(at(cols[1], rows[0]), fx);
+        let bottom = at(cols[0], rows[1]).lerp(at(cols[1], rows[1]), fx);
+        top.lerp(bottom, fy)
+    }
+
+    /// The next level: `max(1, W/2)`×`max(1, H/2)`, each texel the solid-angle-weighted
+    /// mean of the parent texels it covers. The weights are exact overlaps (lengths in u,
+    /// band solid angles in v), so the mean over the sphere is kept; for even sizes this is
+    /// the 2×2 box weighted by texel solid angle, and it also handles odd sizes (a child
+    /// texel covering parts of three parent columns) and the 2×1 / 1×2 ends.
+    fn downsample(&self) -> Level {
+        let width = (self.width / 2).max(1);
+        let height = (self.height / 2).max(1);
+        // Overlaps in u: child column i covers [i·W, (i+1)·W) and parent column c covers
+        // [c·w, (c+1)·w) in units of 1/(W·w) of the circle, so the lengths are integers.
+        let columns = overlaps(self.width as u64, width as u64, |lo, hi| (hi - lo) as f64);
+        // Overlaps in v: the same integer boundaries in units of π/(H·h), weighted by the
+        // band's solid angle, since rows near the poles cover less of the sphere.
+        let parent_height = self.height as u64;
+        let rows = overlaps(parent_height, height as u64, |lo, hi| {
+            band_solid_angle(lo, hi, parent_height * height as u64)
+        });
+        let parent_width = self.width as usize;
+        let mut texels = vec![[0.0f32; 3]; width as usize * height as usize];
+        texels
+            .par_chunks_mut(width as usize)
+            .zip(&rows)
+            .for_each(|(out_row, row_weights)| {
+                let row_total: f64 = row_weights.iter().map(|(_, w)| w).sum();
+                for (out, column_weights) in out_row.iter_mut().zip(&columns) {
+                    let column_total: f64 = column_weights.iter().map(|(_, w)| w).sum();
+                    let mut sum = DVec3::ZERO;
+                    for &(r, wr) in row_weights {
+                        let parent_row = &self.texels[r * parent_width..(r + 1) * parent_width];
+                        for &(c, wc) in column_weights {
+                            sum += to_dvec3(parent_row[c]) * (wr * wc);
+                        }
+                    }
+                    *out = (sum / (row_total * column_total)).as_vec3().to_array();
+                }
+            });
+        Level {
+            width,
+            height,
+            texels,
+        }
+    }
+}
+
+/// For each of `children` equal parts of a range split into `parents` equal parts, the
+/// parents it overlaps and `weight(lo, hi)` of each overlap, with `lo..hi` in units of
+/// 1/(parents·children) of the range (so every boundary is an integer).
+fn overlaps(
+    parents: u64,
+    children: u64,
+    weight: impl Fn(u64, u64) -> f64,
+) -> Vec<Vec<(usize, f64)>> {
+    (0..children)
+        .map(|child| {
+            let (start, end) = (child * parents, (child + 1) * parents);
+            (start / children..end.div_ceil(children))
+                .filter_map(|parent| {
+                    let lo = start.max(parent * children);
+                    let hi = end.min((parent + 1) * children);
+                    (hi > lo).then(|| (parent as usize, weight(lo, hi)))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// `cos θ_lo − cos θ_hi` for the polar band `θ in [lo·π/n, hi·π/n)`: its solid angle divided
+/// by 2π. Written with sines (`2 sin(mid) sin(half-width)`) so thin bands lose no precision.
+fn band_solid_angle(lo: u64, hi: u64, n: u64) -> f64 {
+    let a = lo as f64 * PI / n as f64;
+    let b = hi as f64 * PI / n as f64;
+    2.0 * (0.5 * (a + b)).sin() * (0.5 * (b - a)).sin()
+}
+
+fn to_dvec3(texel: [f32; 3]) -> DVec3 {
+    DVec3::new(texel[0] as f64, texel[1] as f64, texel[2] as f64)
+}
+
+/// Distant environment lighting: an equirectangular radiance map and its mip chain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Environment {
+    /// Level 0 at full resolution, then each halved, down to 1×1; never empty.
+    levels: Vec<Level>,
+}
+
+impl Environment {
+    /// An environment from `width`×`height` level-0 texels (row-major, row 0 the top row,
+    /// linear RGB radiance). Any aspect ratio is accepted; sides must be 1..=[`MAX_SIDE`],
+    /// at most [`MAX_TEXELS`] in all, and every value finite and non-negative.
+    pub fn from_texels(
+        width: u32,
+        height: u32,
+        texels: Vec<[f32; 3]>,
+    ) -> Result<Self, EnvironmentError> {
+        Self::build(width, height, texels).map_err(EnvironmentError::Texels)
+    }
+
+    fn build(width: u32, height: u32, texels: Vec<[f32; 3]>) -> Result<Self, ContentError> {
+        check_size(width as u64, height as u64)?;
+        if texels.len() != width as usize * height as usize {
+            return Err(ContentError::Count {
+                width,
+                height,
+                count: texels.len(),
+            });
+        }
+        check_texels(width, &texels)?;
+        let mut levels = vec![Level {
+            width,
+            height,
+            texels,
+        }];
+        loop {
+            let last = &levels[levels.len() - 1];
+            if last.width == 1 && last.height == 1 {
+                break;
+            }
+            let next = last.downsample();
+            levels.push(next);
+        }
+        Ok(Self { levels })
+    }
+
+    /// Reads an environment file, by extension (case-insensitive): `.hdr` (Radiance RGBE,
+    /// the usual `-Y H +X W` orientation; an `EXPOSURE` line is ignored, as most loaders
+    /// do) or `.exr` (the first layer with `R`, `G` and `B` channels, any sample type, other
+    /// channels ignored). The dimensions are checked before pixels are decoded.
+    pub fn load(path: &Path) -> Result<Self, EnvironmentError> {
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        let (width, height, texels) = match extension.as_deref() {
+            Some("hdr") => read_hdr(path)?,
+            Some("exr") => read_exr(path)?,
+            _ => {
+                return Err(EnvironmentError::UnknownExtension {
+                    path: path.to_path_buf(),
+                });
+            }
+        };
+        Self::build(width, height, texels).map_err(|problem| EnvironmentError::Content {
+            path: path.to_path_buf(),
+            problem,
+        })
+    }
+
+    /// A constant environment of `radiance` in every direction and channel: with radiance 1
+    /// the white furnace, in which an energy-conserving BRDF reflects at most 1. An 8×4 map
+    /// is enough: every level of it is constant.
+    ///
+    /// # Panics
+    /// If `radiance` is negative or not finite.
+    pub fn uniform(radiance: f32) -> Self {
+        assert!(
+            radiance.is_finite() && radiance >= 0.0,
+            "uniform environment radiance must be finite and non-negative, got {radiance}"
+        );
+        Self::from_texels(8, 4, vec![[radiance; 3]; 32]).expect("a constant map is valid")
+    }
+
+    /// The built-in studio environment, generated in code (no asset) and deterministic,
+    /// 512×256 texels, each the value at its centre direction of:
+    ///
+    /// - a dim backdrop: warm grey at the horizon (0.30, 0.27, 0.23) fading to a cool grey
+    ///   overhead (0.15, 0.18, 0.23), and a dark floor (0.045, 0.040, 0.035) below, blended
+    ///   with a smoothstep from 0.2 below to 0.05 above the horizon;
+    /// - three soft boxes, smooth lobes `peak·colour·exp(k·(cos α − 1))` around a direction
+    ///   (α the angle from it; `k` sets the size, about `1/√k` radians across):
+    ///   - key: up, front (+z) and left (−x), towards (−0.55, 0.62, 0.56), k = 30, peak 5,
+    ///     warm white (1.0, 0.95, 0.88);
+    ///   - fill: right (+x), low and front, towards (0.82, 0.25, 0.52), k = 18, peak 1.2,
+    ///     cool (0.85, 0.92, 1.0), larger and dimmer;
+    ///   - rim: behind (−z) and up, towards (0.2, 0.5, −0.84), k = 45, peak 4, white.
+    ///
+    /// Everything is smooth on the scale of a texel (the sharpest lobe is about 8.5° across,
+    /// a texel 0.7°). Filtered importance sampling of cosine and Phong 10-50 lobes at lod
+    /// `0.5·log2(Ωs/Ωp)` comes within 4-6% relative RMS of the exact integral with 16
+    /// samples and within 0.7% with 256 (`tests/environment.rs`).
+    pub fn studio() -> Self {
+        const WIDTH: u32 = 512;
+        const HEIGHT: u32 = 256;
+        let mut texels = vec![[0.0f32; 3]; (WIDTH * HEIGHT) as usize];
+        texels
+            .par_chunks_mut(WIDTH as usize)
+            .enumerate()
+            .for_each(|(row, out)| {
+                for (col, texel) in out.iter_mut().enumerate() {
+                    let uv = DVec2::new(
+                        (col as f64 + 0.5) / WIDTH as f64,
+                        (row as f64 + 0.5) / HEIGHT as f64,
+                    );
+                    *texel = studio_radiance(equirect_direction(uv)).as_vec3().to_array();
+                }
+            });
+        Self::from_texels(WIDTH, HEIGHT, texels).expect("the studio is finite and non-negative")
+    }
+
+    /// Level-0 width in texels.
+    pub fn width(&self) -> u32 {
+        self.levels[0].width
+    }
+
+    /// Level-0 height in texels.
+    pub fn height(&self) -> u32 {
+        self.levels[0].height
+    }
+
+    /// The mip chain: level 0 at full resolution, each next level `max(1, W/2)`×`max(1, H/2)`
+    /// down to 1×1, each texel the mean of the parent texels it covers weighted by their
+    /// solid angle (equirectangular rows near the poles cover less of the sphere), so every
+    /// level has level 0's mean radiance. Upload these as the GPU texture's mips, rather
+    /// than letting the GPU box-filter, to keep the weighting.
+    pub fn levels(&self) -> &[Level] {
+        &self.levels
+    }
+
+    /// The radiance arriving from `direction` (towards the environment; need not be unit
+    /// length), filtered at level of detail `lod`: bilinear within a level (repeating in u,
+    /// clamped in v), linear between the levels below and above `lod`, which is clamped to
+    /// `[0, levels − 1]` (NaN reads as 0). The CPU mirror of `textureSampleLevel`.
+    pub fn radiance(&self, direction: DVec3, lod: f64) -> DVec3 {
+        let uv = equirect_uv(direction);
+        let last = (self.levels.len() - 1) as f64;
+        let lod = if lod.is_nan() {
+            0.0
+        } else {
+            lod.clamp(0.0, last)
+        };
+        let lower = lod.floor();
+        let t = lod - lower;
+        let index = lower as usize;
+        let a = self.levels[index].bilinear(uv);
+        if t == 0.0 {
+            return a;
+        }
+        a.lerp(self.levels[index + 1].bilinear(uv), t)
+    }
+
+    /// The solid angle of one level-0 texel around `direction`: `(2π/W)·(π/H)·sin θ`, θ the
+    /// polar angle (the texel's u-by-v extent times the Jacobian of the mapping). It is 0 at
+    /// the poles, where a filtered-importance-sampling LOD of `0.5·log2(Ωs / Ωp)` becomes
+    /// infinite and [`Environment::radiance`] clamps it to the last level.
+    pub fn texel_solid_angle(&self, direction: DVec3) -> f64 {
+        let d = direction.normalize_or_zero();
+        let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
+        (TAU / self.width() as f64) * (PI / self.height() as f64) * sin_theta
+    }
+
+    /// The solid-angle-weighted mean radiance over the sphere (level 0). The irradiance
+    /// the environment gives an unoccluded surface is π times this when it is uniform.
+    pub fn mean_radiance(&self) -> DVec3 {
+        self.levels[0].mean_radiance()
+    }
+}
+
+/// Sides 1..=MAX_SIDE and at most MAX_TEXELS texels (u64 so that a header's sizes cannot
+/// overflow the product).
+pub(crate) fn check_size(width: u64, height: u64) -> Result<(), ContentError> {
+    let side = 1..=MAX_SIDE as u64;
+    if !side.contains(&width) || !side.contains(&height) || width * height > MAX_TEXELS {
+        return Err(ContentError::Size { width, height });
+    }
+    Ok(())
+}
+
+/// The first texel that is not finite or has a negative channel, if any.
+pub(crate) fn check_texels(width: u32, texels: &[[f32; 3]]) -> Result<(), ContentError> {
+    match texels
+        .par_iter()
+        .position_first(|t| t.iter().any(|v| !v.is_finite() || *v < 0.0))
+    {
+        None => Ok(()),
+        Some(index) => Err(ContentError::Texel {
+            col: (index % width as usize) as u32,
+            row: (index / width as usize) as u32,
+            value: texels[index],
+        }),
+    }
+}

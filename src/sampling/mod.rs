@@ -1,0 +1,566 @@
+//! Importance sampling of a fabric: directions `wi` drawn with a density close to
+//! `F(wi, wo)` (docs/model.md#the-patch-transfer-f) for a given `wo`, with that density `pdf(wi | wo)` (per unit solid
+//! angle) evaluable for any pair, on the CPU ([`Sampler`]) and in WGSL
+//! (`shaders/sampling/fabric_sampler.wgsl`, the same layout, see [`Sampler::wgsl_constants`]).
+//!
+//! The sampler is tabulated, as Dupuy and Jakob (2018) tabulate measured BRDFs: the model's
+//! lobes are too many and too narrow (satin's γs = 2.5°, masking kinks, two threads with
+//! several tangent segments each) for a closed-form inversion of every lobe, and a table gives
+//! an exact, cheap pdf. It is built from any evaluation of F (the resonant quadrature by
+//! default, or a baked table's lookup), so it never has to match F exactly: a sample's
+//! weight is F(wi, wo)/pdf with F evaluated by whoever asks.
+//!
+//! ## Layout (one place; the WGSL mirrors it)
+//!
+//! - **Nodes over wo.** `wo` is placed on a grid of `ELEVATION_NODES` elevations (node i at
+//!   90°·(i/(E − 1))^1.5, dense towards the horizon where the patch's normalisation changes
+//!   F fastest; node 0 built at [`GRAZING_NODE_DEG`] because F is 0 at exactly 0°) by
+//!   `AZIMUTH_NODES` azimuths (node j at j·360°/A, azimuth measured from thread 1, x,
+//!   towards thread 2, y; periodic). The density for a given `wo` is the bilinear mixture of
+//!   its four surrounding nodes' densities, so it is continuous in `wo` (no seams where a
+//!   renderer's `wo` crosses a node) and still exact: the mixture is sampled by picking a
+//!   node with its bilinear weight.
+//! - **Cells over wi.** Each node holds a piecewise-constant density over `ROWS` elevation
+//!   bands of equal angle (row r spans elevations r·90°/R to (r + 1)·90°/R, so the bands near
+//!   the normal are not a single cap as equal-area bands would be) by `COLUMNS` azimuth
+//!   sectors. A cell's probability is proportional to its integral of the mean RGB of F,
+//!   estimated from two points on the cell's diagonal; inside a cell wi is uniform in solid
+//!   angle (uniform in z = sin(elevation) and in azimuth), so the cell's density is its
+//!   probability over its solid angle (z_{r+1} − z_r)·2π/C.
+//! - **Data.** Per node `n = i·A + j`, `NODE_STRIDE` f32: the marginal CDF over rows
+//!   (R + 1 values, 0 first, exactly 1 last), then per row the conditional CDF over columns
+//!   (C + 1 values each). Probabilities are differences of stored neighbours, in sampling and
+//!   in the pdf alike, so the f32 rounding of the CDFs cannot make them disagree.
+//! - **A cosine share.** With probability [`COSINE_SHARE`] wi is drawn from the cosine
+//!   density cos θ/π instead: every direction above the horizon keeps a density of at least
+//!   COSINE_SHARE·cos θ/π, so a lobe the cell's two points missed costs variance, never bias.
+//!
+//! The three uniform numbers: u3 picks cosine or table, then (rescaled) the node; u1 the row
+//! and then z inside it; u2 the column and then the azimuth inside it.
+
+pub mod environment;
+
+pub use environment::{EnvironmentSampler, SAMPLER_MAX_WIDTH};
+
+use crate::model::{Fabric, Integration, Patch, ResonantNodes};
+use glam::DVec3;
+use rayon::prelude::*;
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// Elevation nodes over wo (0° to 90°).
+pub const ELEVATION_NODES: usize = 17;
+/// Azimuth nodes over wo (periodic).
+pub const AZIMUTH_NODES: usize = 32;
+/// Elevation bands of a node's density over wi.
+pub const ROWS: usize = 32;
+/// Azimuth sectors of a node's density over wi.
+pub const COLUMNS: usize = 64;
+/// f32 values per node: the row CDF and one column CDF per row.
+pub const NODE_STRIDE: usize = (ROWS + 1) + ROWS * (COLUMNS + 1);
+/// Nodes over wo.
+pub const NODES: usize = ELEVATION_NODES * AZIMUTH_NODES;
+/// The elevation at which node 0 (nominally 0°) is built: F vanishes at exactly 0°.
+pub const GRAZING_NODE_DEG: f64 = 0.1;
+/// The probability of drawing from the cosine density instead of the table.
+pub const COSINE_SHARE: f64 = 0.1;
+/// Resonant node counts of the evaluation the built-in sampler is built from: the density
+/// only has to follow F's shape (report/REPORT.md: 3/2/2 is within 0.17–0.96% of the direct rule).
+pub const BUILD_NODES: ResonantNodes = ResonantNodes {
+    surface: 3,
+    volume: 2,
+    base: 2,
+};
+
+/// A sampled direction and its density.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Unit, in the patch frame, above the horizon.
+    pub wi: DVec3,
+    /// `pdf(wi | wo)` per unit solid angle.
+    pub pdf: f64,
+}
+
+/// The tabulated sampler of one fabric (see the module doc for the layout).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sampler {
+    data: Vec<f32>,
+}
+
+/// z = sin(elevation) at the lower edge of row `r` (r = ROWS: the normal).
+fn row_z(r: usize) -> f64 {
+    (r as f64 * FRAC_PI_2 / ROWS as f64).sin()
+}
+
+/// The unit direction of elevation `elevation` and azimuth `azimuth` (radians).
+fn direction(elevation: f64, azimuth: f64) -> DVec3 {
+    let (sin_e, cos_e) = elevation.sin_cos();
+    let (sin_a, cos_a) = azimuth.sin_cos();
+    DVec3::new(cos_e * cos_a, cos_e * sin_a, sin_e)
+}
+
+/// The direction at height `z` (≥ 0) and azimuth `azimuth`.
+fn direction_at_z(z: f64, azimuth: f64) -> DVec3 {
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let (sin_a, cos_a) = azimuth.sin_cos();
+    DVec3::new(r * cos_a, r * sin_a, z)
+}
+
+/// Azimuth in [0, 2π) measured from x towards y.
+fn azimuth_of(w: DVec3) -> f64 {
+    let a = w.y.atan2(w.x);
+    if a < 0.0 { a + TAU } else { a }
+}
+
+/// Elevation in [0, π/2] of a direction with w.z ≥ 0.
+fn elevation_of(w: DVec3) -> f64 {
+    w.z.atan2(w.x.hypot(w.y))
+}
+
+/// `cdf` (f64 partial sums of non-negative weights, `weights.len() + 1` values) normalised
+/// into `out` as f32, 0 first and exactly 1 last; all-zero weights give the uniform CDF.
+pub(crate) fn write_cdf(weights: &[f64], out: &mut [f32]) {
+    let total: f64 = weights.iter().sum();
+    let n = weights.len();
+    let mut sum = 0.0;
+    out[0] = 0.0;
+    for (k, w) in weights.iter().enumerate() {
+        sum += w;
+        out[k + 1] = if total > 0.0 {
+            (sum / total) as f32
+        } else {
+            (k + 1) as f32 / n as f32
+        };
+    }
+    out[n] = 1.0;
+}
+
+/// The interval `k` of `cdf` (n + 1 non-decreasing values from 0 to 1) holding `u` in
+/// [0, 1), cdf[k] ≤ u < cdf[k + 1], and u rescaled to [0, 1) inside it. Intervals of zero
+/// probability are never chosen.
+pub(crate) fn invert_cdf(cdf: &[f32], u: f64) -> (usize, f64) {
+    let n = cdf.len() - 1;
+    // First index in 1..=n whose value exceeds u; cdf[n] = 1 > u bounds it.
+    let k = cdf[1..=n].partition_point(|&c| c as f64 <= u).min(n - 1);
+    let (lo, hi) = (cdf[k] as f64, cdf[k + 1] as f64);
+    let rescaled = if hi > lo { (u - lo) / (hi - lo) } else { 0.0 };
+    (k, rescaled.clamp(0.0, 1.0 - f64::EPSILON / 2.0))
+}
+
+/// The elevation (radians) of row `i` of `rows` on the grids over wo (the sampler's nodes,
+/// the albedo map's rows): 90°·(i/(rows − 1))^1.5, dense at the horizon where F changes
+/// fastest, row 0 at [`GRAZING_NODE_DEG`] because F is 0 at exactly 0°.
+fn grid_elevation(i: usize, rows: usize) -> f64 {
+    (90.0 * (i as f64 / (rows - 1) as f64).powf(1.5))
+        .max(GRAZING_NODE_DEG)
+        .to_radians()
+}
+
+/// The inverse of [`grid_elevation`]: `wo`'s fractional row on a grid of `rows`, in
+/// [0, rows − 1].
+fn grid_row(wo: DVec3, rows: usize) -> f64 {
+    ((elevation_of(wo) / FRAC_PI_2).max(0.0).powf(2.0 / 3.0) * (rows - 1) as f64)
+        .clamp(0.0, (rows - 1) as f64)
+}
+
+/// The four nodes around `wo` and their bilinear weights (node index, weight).
+fn node_weights(wo: DVec3) -> [(usize, f64); 4] {
+    let x = grid_row(wo, ELEVATION_NODES);
+    let i0 = (x.floor() as usize).min(ELEVATION_NODES - 2);
+    let fx = x - i0 as f64;
+    let y = azimuth_of(wo) / TAU * AZIMUTH_NODES as f64;
+    let j0 = (y.floor() as usize) % AZIMUTH_NODES;
+    let fy = (y - y.floor()).clamp(0.0, 1.0);
+    let j1 = (j0 + 1) % AZIMUTH_NODES;
+    let node = |i: usize, j: usize| i * AZIMUTH_NODES + j;
+    [
+        (node(i0, j0), (1.0 - fx) * (1.0 - fy)),
+        (node(i0, j1), (1.0 - fx) * fy),
+        (node(i0 + 1, j0), fx * (1.0 - fy)),
+        (node(i0 + 1, j1), fx * fy),
+    ]
+}
+
+impl Sampler {
+    /// The sampler of `fabric`, built from the resonant quadrature with [`BUILD_NODES`].
+    pub fn for_fabric(fabric: &Fabric) -> Self {
+        let patch = Patch::new(fabric, Integration::Resonant(BUILD_NODES));
+        Self::build(|wi, wo| patch.eval(wi, wo))
+    }
+
+    /// The sampler of a baked table's fabric, built from the table's f32 lookup (its batch
+    /// entry point, [`crate::table::Table::lookup_batch`], the same values as single
+    /// lookups): a small fraction of the resonant quadrature's cost, and the density
+    /// follows the F that a renderer using the table shades with.
+    pub fn for_table(table: &crate::table::Table) -> Self {
+        Self::build_batched(|pairs, out| {
+            crate::measure::accuracy::lookup_batch_f64(table, pairs, out)
+        })
+    }
+
+    /// A sampler whose cell probabilities follow `f(wi, wo)` (RGB, the patch transfer; its
+    /// mean over the channels is used). Nodes in parallel, each computed alone: the result
+    /// does not depend on the thread count.
+    pub fn build(f: impl Fn(DVec3, DVec3) -> DVec3 + Sync) -> Self {
+        Self::build_batched(|pairs, out| {
+            for (value, &(wi, wo)) in out.iter_mut().zip(pairs) {
+                *value = f(wi, wo);
+            }
+        })
+    }
+
+    /// [`Self::build`] from `f(pairs, out)`, which writes F of every pair into `out`: each
+    /// node asks for all its cells' pairs at once, so that a batch evaluation can be used.
+    pub fn build_batched(f: impl Fn(&[(DVec3, DVec3)], &mut [DVec3]) + Sync) -> Self {
+        let nodes: Vec<Vec<f32>> = (0..NODES)
+            .into_par_iter()
+            .map(|n| {
+                let (i, j) = (n / AZIMUTH_NODES, n % AZIMUTH_NODES);
+                let elevation = grid_elevation(i, ELEVATION_NODES);
+                let wo = direction(elevation, j as f64 * TAU / AZIMUTH_NODES as f64);
+                Self::build_node(&f, wo)
+            })
+            .collect();
+        Self {
+            data: nodes.concat(),
+        }
+    }
+
+    /// One node's CDFs for outgoing direction `wo`.
+    fn build_node(f: &impl Fn(&[(DVec3, DVec3)], &mut [DVec3]), wo: DVec3) -> Vec<f32> {
+        let column_width = TAU / COLUMNS as f64;
+        // Two points on each cell's diagonal: half the cost of 2 × 2, and the variance of
+        // the tests' albedo estimates moved by less than a factor 2.
+        const POINTS: [(f64, f64); 2] = [(0.25, 0.25), (0.75, 0.75)];
+        let mut pairs = Vec::with_capacity(ROWS * COLUMNS * POINTS.len());
+        for r in 0..ROWS {
+            let (z0, z1) = (row_z(r), row_z(r + 1));
+            for c in 0..COLUMNS {
+                for (a, b) in POINTS {
+                    let wi = direction_at_z(z0 + a * (z1 - z0), (c as f64 + b) * column_width);
+                    pairs.push((wi, wo));
+                }
+            }
+        }
+        let mut values = vec![DVec3::ZERO; pairs.len()];
+        f(&pairs, &mut values);
+        let mut out = vec![0.0f32; NODE_STRIDE];
+        let mut row_weights = [0.0f64; ROWS];
+        let mut cells = [0.0f64; COLUMNS];
+        for (r, row_weight) in row_weights.iter_mut().enumerate() {
+            let (z0, z1) = (row_z(r), row_z(r + 1));
+            for (c, cell) in cells.iter_mut().enumerate() {
+                let at = (r * COLUMNS + c) * POINTS.len();
+                let sum: f64 = values[at..at + POINTS.len()]
+                    .iter()
+                    .map(|v| (v.x + v.y + v.z) / 3.0)
+                    .sum();
+                // Mean value × solid angle; a non-finite or negative F is treated as 0.
+                let value = sum / POINTS.len() as f64 * (z1 - z0) * column_width;
+                *cell = if value.is_finite() && value > 0.0 {
+                    value
+                } else {
+                    0.0
+                };
+            }
+            *row_weight = cells.iter().sum();
+            let start = ROWS + 1 + r * (COLUMNS + 1);
+            write_cdf(&cells, &mut out[start..start + COLUMNS + 1]);
+        }
+        write_cdf(&row_weights, &mut out[..ROWS + 1]);
+        out
+    }
+
+    /// The f32 data in the layout of the module doc (what the GPU reads).
+    pub fn data(&self) -> &[f32] {
+        &self.data
+    }
+
+    fn node(&self, n: usize) -> &[f32] {
+        &self.data[n * NODE_STRIDE..(n + 1) * NODE_STRIDE]
+    }
+
+    fn row_cdf(node: &[f32]) -> &[f32] {
+        &node[..ROWS + 1]
+    }
+
+    fn column_cdf(node: &[f32], r: usize) -> &[f32] {
+        let start = ROWS + 1 + r * (COLUMNS + 1);
+        &node[start..start + COLUMNS + 1]
+    }
+
+    /// The probability of cell (`r`, `c`) in node `n`.
+    fn cell_probability(&self, n: usize, r: usize, c: usize) -> f64 {
+        let node = self.node(n);
+        let rows = Self::row_cdf(node);
+        let columns = Self::column_cdf(node, r);
+        (rows[r + 1] as f64 - rows[r] as f64) * (columns[c + 1] as f64 - columns[c] as f64)
+    }
+
+    /// The density at `wi` (w.z > 0) of the mixture of `nodes` (one wo's bilinear weights):
+    /// wi's cell and its solid angle are the same in every node, so they are found once.
+    fn mixture_pdf(&self, nodes: &[(usize, f64); 4], wi: DVec3) -> f64 {
+        let r = ((elevation_of(wi) / FRAC_PI_2 * ROWS as f64) as usize).min(ROWS - 1);
+        let c = ((azimuth_of(wi) / TAU * COLUMNS as f64) as usize).min(COLUMNS - 1);
+        let solid_angle = (row_z(r + 1) - row_z(r)) * (TAU / COLUMNS as f64);
+        let table: f64 = nodes
+            .iter()
+            .filter(|&&(_, w)| w > 0.0)
+            .map(|&(n, w)| w * self.cell_probability(n, r, c))
+            .sum();
+        COSINE_SHARE * wi.z / PI + (1.0 - COSINE_SHARE) * table / solid_angle
+    }
+
+    /// `pdf(wi | wo)` per unit solid angle, as [`Sampler::sample`] draws it; 0 when either
+    /// direction is not above the horizon. Both unit, in the patch frame.
+    pub fn pdf(&self, wo: DVec3, wi: DVec3) -> f64 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return 0.0;
+        }
+        self.mixture_pdf(&node_weights(wo), wi)
+    }
+
+    /// A direction drawn for unit `wo` from three uniform numbers in [0, 1), and its density;
+    /// `None` when `wo` is not above the horizon or the draw lands on the horizon itself.
+    pub fn sample(&self, wo: DVec3, u: [f64; 3]) -> Option<Sample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let weights = node_weights(wo);
+        let wi = if u[2] < COSINE_SHARE {
+            // Cosine density: z² uniform (Malley's method in z and azimuth).
+            direction_at_z((1.0 - u[0]).sqrt(), u[1] * TAU)
+        } else {
+            let mut pick = (u[2] - COSINE_SHARE) / (1.0 - COSINE_SHARE);
+            let mut chosen = weights[0].0;
+            for &(n, w) in &weights {
+                if w > 0.0 {
+                    chosen = n;
+                    if pick < w {
+                        break;
+                    }
+                    pick -= w;
+                }
+            }
+            let node = self.node(chosen);
+            let (r, ur) = invert_cdf(Self::row_cdf(node), u[0]);
+            let (c, uc) = invert_cdf(Self::column_cdf(node, r), u[1]);
+            let z = row_z(r) + ur * (row_z(r + 1) - row_z(r));
+            direction_at_z(z, (c as f64 + uc) * TAU / COLUMNS as f64)
+        };
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let pdf = self.mixture_pdf(&weights, wi);
+        (pdf > 0.0).then_some(Sample { wi, pdf })
+    }
+
+    /// The WGSL constants `shaders/sampling/fabric_sampler.wgsl` requires (the layout's sizes):
+    /// the generated module [`crate::shader::SAMPLER_CONSTANTS`]. That file holds
+    /// `sampling_sample`, `sampling_pdf`, `sampling_hammersley` and the helpers they need,
+    /// without a binding (the module that requires it declares `sampling_data`).
+    pub fn wgsl_constants() -> String {
+        use crate::table::wgsl::wgsl_f32;
+        format!(
+            "const SAMPLING_ELEVATION_NODES: u32 = {ELEVATION_NODES}u;\n\
+             const SAMPLING_AZIMUTH_NODES: u32 = {AZIMUTH_NODES}u;\n\
+             const SAMPLING_ROWS: u32 = {ROWS}u;\n\
+             const SAMPLING_COLUMNS: u32 = {COLUMNS}u;\n\
+             const SAMPLING_NODE_STRIDE: u32 = {NODE_STRIDE}u;\n\
+             const SAMPLING_COSINE_SHARE: f32 = {};\n",
+            wgsl_f32(COSINE_SHARE)
+        )
+    }
+}
+
+/// The directional albedo `∫ F(wi, wo) dwi` (RGB) over the upper hemisphere for `wo`,
+/// estimated by importance sampling with `samples` stratified draws (a 2D grid in u1, u2,
+/// u3 by the Hammersley rule) of `sampler`, F by `f`. Also returns the standard deviation of
+/// the mean channel of one weight F/pdf, which bounds the estimate's error.
+pub fn directional_albedo(
+    sampler: &Sampler,
+    f: impl Fn(DVec3, DVec3) -> DVec3,
+    wo: DVec3,
+    samples: usize,
+) -> (DVec3, f64) {
+    let mut sum = DVec3::ZERO;
+    let (mut mean, mut m2) = (0.0, 0.0);
+    for k in 0..samples {
+        let u = hammersley(k as u32, samples as u32);
+        let weight = sampler
+            .sample(wo, u)
+            .map(|s| f(s.wi, wo) / s.pdf)
+            .unwrap_or(DVec3::ZERO);
+        sum += weight;
+        // Welford's running variance of the channel mean.
+        let x = (weight.x + weight.y + weight.z) / 3.0;
+        let delta = x - mean;
+        mean += delta / (k + 1) as f64;
+        m2 += delta * (x - mean);
+    }
+    let n = samples.max(1) as f64;
+    (sum / n, (m2 / (n - 1.0).max(1.0)).sqrt())
+}
+
+/// Point `k` of an `n`-point 3D Hammersley set: (k + ½)/n, the base-2 radical inverse of k,
+/// the base-3 radical inverse of k; all in [0, 1).
+pub fn hammersley(k: u32, n: u32) -> [f64; 3] {
+    let radical = |mut k: u32, base: u32| {
+        let (mut inv, mut f) = (0.0, 1.0 / base as f64);
+        while k > 0 {
+            inv += (k % base) as f64 * f;
+            k /= base;
+            f /= base as f64;
+        }
+        inv
+    };
+    [(k as f64 + 0.5) / n as f64, radical(k, 2), radical(k, 3)]
+}
+
+/// Outgoing elevations (degrees) at which [`albedo_curve`] measures the albedo.
+pub const ALBEDO_ELEVATIONS_DEG: [f64; 11] = [
+    1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0, 85.0, 90.0,
+];
+/// Outgoing azimuths per elevation, evenly spaced from thread 1.
+pub const ALBEDO_AZIMUTHS: usize = 8;
+
+/// The directional albedo at one outgoing elevation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlbedoRow {
+    pub elevation_deg: f64,
+    /// Mean over the azimuths of ∫F dwi (RGB).
+    pub mean: DVec3,
+    /// The largest channel mean of ∫F dwi over the azimuths, and the azimuth (degrees).
+    pub max: (f64, f64),
+    /// The largest standard error (channel mean) of one azimuth's estimate.
+    pub standard_error: f64,
+}
+
+/// The directional albedo `∫ F(wi, wo) dwi` of a fabric over outgoing elevation
+/// ([`ALBEDO_ELEVATIONS_DEG`] × [`ALBEDO_AZIMUTHS`] azimuths), by importance sampling with
+/// `samples` draws per direction; directions in parallel, deterministic.
+pub fn albedo_curve(
+    sampler: &Sampler,
+    f: impl Fn(DVec3, DVec3) -> DVec3 + Sync,
+    samples: usize,
+) -> Vec<AlbedoRow> {
+    ALBEDO_ELEVATIONS_DEG
+        .iter()
+        .map(|&elevation| {
+            let estimates: Vec<(DVec3, f64, f64)> = (0..ALBEDO_AZIMUTHS)
+                .into_par_iter()
+                .map(|k| {
+                    let azimuth = 360.0 * k as f64 / ALBEDO_AZIMUTHS as f64;
+                    let wo = direction(elevation.to_radians(), azimuth.to_radians());
+                    let (albedo, sigma) = directional_albedo(sampler, &f, wo, samples);
+                    (albedo, sigma / (samples as f64).sqrt(), azimuth)
+                })
+                .collect();
+            let mean = estimates.iter().map(|e| e.0).sum::<DVec3>() / estimates.len() as f64;
+            let channel_mean = |v: DVec3| (v.x + v.y + v.z) / 3.0;
+            let max = estimates
+                .iter()
+                .map(|e| (channel_mean(e.0), e.2))
+                .fold((f64::MIN, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+            let standard_error = estimates.iter().map(|e| e.1).fold(0.0, f64::max);
+            AlbedoRow {
+                elevation_deg: elevation,
+                mean,
+                max,
+                standard_error,
+            }
+        })
+        .collect()
+}
+
+/// Rows (outgoing elevations) of an [`AlbedoMap`]: row i at elevation 90°·(i/(rows − 1))^1.5,
+/// dense at the horizon where the albedo changes fastest (as the sampler's nodes), row 0 at
+/// [`GRAZING_NODE_DEG`] (F vanishes at exactly 0°). A fetch's row coordinate is
+/// (elevation/90°)^(2/3)·(rows − 1).
+pub const ALBEDO_MAP_ELEVATIONS: usize = 33;
+/// Columns (outgoing azimuths) of an [`AlbedoMap`]: column j at 360°·j/(columns − 1), so the
+/// last column repeats the first and a clamped bilinear fetch wraps the azimuth.
+pub const ALBEDO_MAP_AZIMUTHS: usize = 65;
+
+/// The directional albedo `∫ F(wi, wo) dwi` (RGB) on a grid of outgoing directions in the
+/// cloth frame: what a uniform ambient radiance `L_a` reflects, `L_o(wo) = L_a · albedo(wo)`
+/// (the model's F holds every cosine). Row-major, [`ALBEDO_MAP_AZIMUTHS`] columns of azimuth
+/// from thread 1 (x) towards thread 2 (y) per row of elevation ([`ALBEDO_MAP_ELEVATIONS`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AlbedoMap {
+    pub rgb: Vec<[f32; 3]>,
+    /// The largest standard error (channel mean) of one node's estimate.
+    pub standard_error: f64,
+}
+
+impl AlbedoMap {
+    /// The map of F = `f`, each node by [`directional_albedo`] with `samples` draws of
+    /// `sampler`; nodes in parallel, deterministic.
+    pub fn build(
+        sampler: &Sampler,
+        f: impl Fn(DVec3, DVec3) -> DVec3 + Sync,
+        samples: usize,
+    ) -> Self {
+        let nodes: Vec<([f32; 3], f64)> = (0..ALBEDO_MAP_ELEVATIONS * ALBEDO_MAP_AZIMUTHS)
+            .into_par_iter()
+            .map(|n| {
+                let (i, j) = (n / ALBEDO_MAP_AZIMUTHS, n % ALBEDO_MAP_AZIMUTHS);
+                let elevation = grid_elevation(i, ALBEDO_MAP_ELEVATIONS);
+                let azimuth = TAU * j as f64 / (ALBEDO_MAP_AZIMUTHS - 1) as f64;
+                let (albedo, sigma) =
+                    directional_albedo(sampler, &f, direction(elevation, azimuth), samples);
+                (albedo.as_vec3().to_array(), sigma / (samples as f64).sqrt())
+            })
+            .collect();
+        Self {
+            rgb: nodes.iter().map(|n| n.0).collect(),
+            standard_error: nodes.iter().map(|n| n.1).fold(0.0, f64::max),
+        }
+    }
+
+    /// The map's bilinear interpolation at `wo` (unit, wo.z ≥ 0), as a GPU's clamped
+    /// bilinear fetch of the map as a texture reads it.
+    pub fn at(&self, wo: DVec3) -> DVec3 {
+        let y = grid_row(wo, ALBEDO_MAP_ELEVATIONS);
+        let x = azimuth_of(wo) / TAU * (ALBEDO_MAP_AZIMUTHS - 1) as f64;
+        let (i0, j0) = (
+            (y as usize).min(ALBEDO_MAP_ELEVATIONS - 2),
+            (x as usize).min(ALBEDO_MAP_AZIMUTHS - 2),
+        );
+        let (fy, fx) = (y - i0 as f64, x - j0 as f64);
+        let node =
+            |i: usize, j: usize| DVec3::from(self.rgb[i * ALBEDO_MAP_AZIMUTHS + j].map(f64::from));
+        (node(i0, j0) * (1.0 - fx) + node(i0, j0 + 1) * fx) * (1.0 - fy)
+            + (node(i0 + 1, j0) * (1.0 - fx) + node(i0 + 1, j0 + 1) * fx) * fy
+    }
+}
+
+/// The albedo curve as a text table (what `clothbake albedo` prints for one fabric).
+pub fn describe_albedo(name: &str, rows: &[AlbedoRow], samples: usize) -> String {
+    use std::fmt::Write;
+    let mut out = format!(
+        "{name}: directional albedo ∫F dwi over outgoing elevation (mean of {ALBEDO_AZIMUTHS} \
+         azimuths, {samples} importance samples each)\n  elevation        R        G        B   \
+         max (RGB mean) at azimuth   std. error\n"
+    );
+    for row in rows {
+        let _ = writeln!(
+            out,
+            "  {:>8.0}° {:>8.4} {:>8.4} {:>8.4}   {:>8.4} at {:>5.1}°        {:.1e}",
+            row.elevation_deg,
+            row.mean.x,
+            row.mean.y,
+            row.mean.z,
+            row.max.0,
+            row.max.1,
+            row.standard_error
+        );
+    }
+    if let Some(top) = rows.iter().max_by(|a, b| a.max.0.total_cmp(&b.max.0)) {
+        let _ = writeln!(
+            out,
+            "  maximum: {:.4} (RGB mean) at elevation {:.0}°, azimuth {:.1}°",
+            top.max.0, top.elevation_deg, top.max.1
+        );
+    }
+    out
+}

@@ -1,0 +1,296 @@
+use super::*;
+use crate::table::wgsl::{
+    LookupShaderOptions, layout_module, lookup_composer, lookup_wgsl_in_group,
+};
+use crate::table::{Layout, Plane, Table};
+
+/// The generated modules that registered files may require.
+const GENERATED: [&str; 5] = [
+    BRDF,
+    TABLE_CONSTANTS,
+    RESONANT_RULES,
+    RESONANT_FABRIC,
+    SAMPLER_CONSTANTS,
+];
+
+fn order(composer: &Composer, roots: &[&str]) -> Result<Vec<String>, ComposeError> {
+    composer.order(roots)
+}
+
+#[test]
+fn requirements_come_from_the_header_only() {
+    let source = "// A module.\n// requires: a, b\n//   requires: c d\n//\n// requires: e,\n\n\
+                  // requires: not_header\nfn f() {}\n";
+    assert_eq!(requirements(source), ["a", "b", "c", "d", "e"]);
+    assert!(requirements("fn f() {}\n// requires: x\n").is_empty());
+    assert!(requirements("").is_empty());
+}
+
+#[test]
+fn modules_come_after_what_they_require() {
+    let composer = Composer::new()
+        .module("top", "// requires: middle, leaf\nfn top() {}\n")
+        .module("middle", "// requires: leaf\nfn middle() {}\n")
+        .module("leaf", "fn leaf() {}\n");
+    assert_eq!(
+        order(&composer, &["top"]).unwrap(),
+        ["leaf", "middle", "top"]
+    );
+    // Roots in order, each after what it requires.
+    assert_eq!(
+        order(&composer, &["leaf", "top"]).unwrap(),
+        ["leaf", "middle", "top"]
+    );
+    let text = composer.compose(&["top"]).unwrap();
+    let at = |f: &str| text.find(f).unwrap_or_else(|| panic!("{f} in {text}"));
+    assert!(at("fn leaf") < at("fn middle") && at("fn middle") < at("fn top"));
+}
+
+#[test]
+fn a_module_required_twice_is_written_once() {
+    let composer = Composer::new()
+        .module("top", "// requires: left, right\nfn top() {}\n")
+        .module("left", "// requires: base\nfn left() {}\n")
+        .module("right", "// requires: base\nfn right() {}\n")
+        .module("base", "fn base() {}\n");
+    assert_eq!(
+        order(&composer, &["top", "base", "left"]).unwrap(),
+        ["base", "left", "right", "top"]
+    );
+    let text = composer.compose(&["top", "right"]).unwrap();
+    assert_eq!(text.matches("fn base()").count(), 1, "{text}");
+    // Files too: split_frame and the resonant quadrature both require the tangent sample.
+    let files = order(&Composer::new(), &["table/split_frame", "gpu/paper"]);
+    let Err(ComposeError::Unknown { name, .. }) = files else {
+        panic!("the layout requires the generated table constants: {files:?}");
+    };
+    assert_eq!(name, TABLE_CONSTANTS);
+    let composer = Composer::new()
+        .module(TABLE_CONSTANTS, "")
+        .module(RESONANT_RULES, "");
+    let files = order(&composer, &["table/split_frame", "gpu/paper"]).unwrap();
+    let count = |n: &str| files.iter().filter(|f| *f == n).count();
+    assert_eq!(count("model/tangent_sample"), 1, "{files:?}");
+    assert_eq!(files.last().map(String::as_str), Some("gpu/paper"));
+}
+
+#[test]
+fn a_cycle_is_an_error() {
+    let composer = Composer::new()
+        .module("a", "// requires: b\n")
+        .module("b", "// requires: c\n")
+        .module("c", "// requires: a\n");
+    let error = composer.compose(&["a"]).unwrap_err();
+    assert_eq!(
+        error,
+        ComposeError::Cycle {
+            path: ["a", "b", "c", "a"].map(String::from).to_vec()
+        }
+    );
+    assert!(error.to_string().contains("a -> b -> c -> a"), "{error}");
+    let itself = Composer::new().module("a", "// requires: a\n");
+    assert!(matches!(
+        itself.compose(&["a"]),
+        Err(ComposeError::Cycle { .. })
+    ));
+}
+
+#[test]
+fn an_unknown_name_is_an_error() {
+    let composer = Composer::new().module("a", "// requires: model/tangent_sample, nowhere\n");
+    assert_eq!(
+        composer.compose(&["a"]).unwrap_err(),
+        ComposeError::Unknown {
+            name: "nowhere".into(),
+            required_by: Some("a".into())
+        }
+    );
+    assert_eq!(
+        Composer::new().compose(&["table/nowhere"]).unwrap_err(),
+        ComposeError::Unknown {
+            name: "table/nowhere".into(),
+            required_by: None
+        }
+    );
+}
+
+#[test]
+fn a_name_cannot_be_defined_twice() {
+    let twice = Composer::new().module("a", "").module("a", "");
+    assert_eq!(
+        twice.compose(&["a"]).unwrap_err(),
+        ComposeError::Duplicate { name: "a".into() }
+    );
+    let file = Composer::new().module("table/lookup", "");
+    assert!(matches!(
+        file.compose(&["table/lookup"]),
+        Err(ComposeError::Duplicate { .. })
+    ));
+}
+
+#[test]
+fn the_brdf_group_is_bound_in_every_module() {
+    let composer = Composer::new()
+        .module(
+            "a",
+            "// requires: b\n@group(CLOTH_BRDF_GROUP) @binding(1) var<uniform> x: f32;\n",
+        )
+        .module(
+            "b",
+            "@group(CLOTH_BRDF_GROUP) @binding(2) var<uniform> y: f32;\n\
+             @group(1) @binding(0) var<uniform> z: f32;\n",
+        );
+    let text = composer.compose(&["a"]).unwrap();
+    assert_eq!(text.matches("@group(0) @binding(").count(), 2, "{text}");
+    assert!(text.contains("@group(1) @binding(0)"));
+    let text = composer
+        .brdf_group("#{MATERIAL_BIND_GROUP}")
+        .compose(&["a"])
+        .unwrap();
+    assert_eq!(
+        text.matches("@group(#{MATERIAL_BIND_GROUP}) @binding(")
+            .count(),
+        2
+    );
+    assert!(!text.contains(BRDF_GROUP_PLACEHOLDER));
+}
+
+#[test]
+fn every_file_is_registered_once_and_requires_known_modules() {
+    for (i, f) in FILES.iter().enumerate() {
+        assert!(
+            FILES[..i].iter().all(|g| g.name != f.name),
+            "{} twice",
+            f.name
+        );
+        for required in requirements(f.source) {
+            assert!(
+                file(required).is_some() || GENERATED.contains(&required),
+                "{} requires unknown '{required}'",
+                f.name
+            );
+        }
+    }
+    // Every file of shaders/ is registered.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut on_disk = Vec::new();
+    let mut stack = vec![dir.clone()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).expect("shaders/") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "wgsl") {
+                let rel = path.strip_prefix(&dir).expect("under shaders/");
+                on_disk.push(rel.with_extension("").to_string_lossy().replace('\\', "/"));
+            }
+        }
+    }
+    on_disk.sort();
+    let mut registered: Vec<&str> = FILES.iter().map(|f| f.name).collect();
+    registered.sort();
+    assert_eq!(on_disk, registered);
+    // Every layout has its file.
+    for &layout in Layout::ALL {
+        assert!(file(&layout_module(layout)).is_some(), "{layout}");
+    }
+}
+
+/// A table of `fabric` with zero texels at the layout's smallest resolution: the generated
+/// WGSL depends on the geometry only.
+fn empty_table(fabric: &crate::model::Fabric, layout: Layout) -> Table {
+    let resolution = layout.resolution_ladder()[0];
+    let planes = layout
+        .plane_specs(fabric, resolution)
+        .into_iter()
+        .map(|spec| Plane {
+            data: vec![0.0; spec.texel_count() * spec.channels.len()],
+            spec,
+        })
+        .collect();
+    Table::new(layout, resolution, fabric, planes).expect("table")
+}
+
+/// Parses and validates `source` with naga, as wgpu does before a pipeline.
+fn validate(what: &str, source: &str) -> naga::Module {
+    assert!(
+        !source.contains(BRDF_GROUP_PLACEHOLDER),
+        "{what}: unbound group"
+    );
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("{what}: {}", e.emit_to_string(source)));
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .unwrap_or_else(|e| panic!("{what}: {e:?}"));
+    module
+}
+
+fn defines(module: &naga::Module, function: &str) -> bool {
+    module
+        .functions
+        .iter()
+        .any(|(_, f)| f.name.as_deref() == Some(function))
+        || module.entry_points.iter().any(|e| e.name == function)
+}
+
+/// Every composition the crate makes, validated by naga: each layout's lookup for every
+/// built-in fabric with and without the horizon band (alone, in another group, with the pair
+/// kernel of `wgsl --lang`), and with the runtime each GPU evaluator's shader, the pair
+/// kernel over each, the renderer over each (and over its G-buffer stub) and the sampler's
+/// kernels.
+#[test]
+fn every_composition_validates() {
+    let fabrics = crate::formats::fabric_toml::FabricSet::builtin();
+    let mut brdfs: Vec<(String, String)> = Vec::new();
+    for fabric in fabrics.fabrics() {
+        for &layout in Layout::ALL {
+            let table = empty_table(fabric, layout);
+            for horizon_band in [true, false] {
+                let what = format!("{} {layout} band {horizon_band}", fabric.name);
+                let options = LookupShaderOptions { horizon_band };
+                let composer = lookup_composer(&table, &options);
+                let lookup = composer.compose(&[BRDF]).expect("lookup");
+                let module = validate(&what, &lookup);
+                assert!(defines(&module, "cloth_brdf"), "{what}");
+                assert!(defines(&module, &format!("cloth_{layout}_brdf")), "{what}");
+                let kernel = composer
+                    .compose(&[crate::table::shader_language::KERNEL_MODULE])
+                    .expect("kernel");
+                assert!(defines(&validate(&what, &kernel), "eval_pairs_main"));
+                validate(&what, &lookup_wgsl_in_group(&table, "2", &options));
+                if horizon_band {
+                    brdfs.push((what, lookup));
+                }
+            }
+        }
+        #[cfg(feature = "runtime")]
+        brdfs.push((
+            format!("{} resonant", fabric.name),
+            crate::gpu::resonant::resonant_wgsl(
+                fabric,
+                crate::model::resonant::ResonantNodes::DEFAULT,
+            ),
+        ));
+    }
+    #[cfg(feature = "runtime")]
+    {
+        brdfs.push(("paper".into(), crate::gpu::direct::paper_wgsl()));
+        brdfs.push(("constant".into(), crate::gpu::constant::constant_wgsl()));
+        for (what, brdf) in &brdfs {
+            assert!(defines(&validate(what, brdf), "cloth_brdf"), "{what}");
+            let pairs = crate::gpu::eval_pairs_wgsl(brdf.clone());
+            assert!(defines(&validate(what, &pairs), "eval_pairs_main"));
+            let render = crate::render::render_wgsl(brdf);
+            assert!(defines(&validate(what, &render), "fs_display"));
+        }
+        let stub = crate::render::render_wgsl(crate::render::STUB_BRDF_WGSL);
+        assert!(defines(&validate("render stub", &stub), "fs_gbuffer"));
+        let sampler = crate::gpu::sampler::sampler_pairs_wgsl();
+        let module = validate("sampler", &sampler);
+        assert!(defines(&module, "sample_draws_main") && defines(&module, "sample_pdf_main"));
+    }
+    assert!(!brdfs.is_empty());
+}

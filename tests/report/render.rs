@@ -1,0 +1,364 @@
+//! REPORT.md is generated from report.json, never edited by hand: re-rendering the committed
+//! `report/report.json` reproduces the committed `report/REPORT.md` byte for byte, and the
+//! page's "Which table or evaluation to pick" names, for every fabric of the JSON, a table
+//! or evaluation that the fabric's data holds, within the need's budget and the best there.
+//! The picks are checked against the JSON read as plain values, not through the code that
+//! made them.
+
+use clothbake::report::{self, ReportError, markdown};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+/// The committed report: `report/` at the repository root.
+fn committed() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("report")
+}
+
+fn committed_md() -> String {
+    std::fs::read_to_string(committed().join(markdown::FILE_NAME)).expect("report/REPORT.md")
+}
+
+fn committed_json() -> Value {
+    let text = std::fs::read_to_string(committed().join(report::JSON_FILE_NAME))
+        .expect("report/report.json");
+    serde_json::from_str(&text).expect("report/report.json is JSON")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("report-render-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Panics at the first line where `actual` and `expected` differ.
+fn assert_same_text(actual: &str, expected: &str, what: &str) {
+    if actual == expected {
+        return;
+    }
+    let (a, e): (Vec<&str>, Vec<&str>) = (actual.lines().collect(), expected.lines().collect());
+    let line = (0..a.len().max(e.len()))
+        .find(|&i| a.get(i) != e.get(i))
+        .unwrap_or(a.len().min(e.len()));
+    panic!(
+        "{what} differs at line {}:\n  rendered:  {:?}\n  committed: {:?}\n(rendered {} bytes, \
+         committed {}; regenerate with `clothbake report --rerender` or a new report run)",
+        line + 1,
+        a.get(line),
+        e.get(line),
+        actual.len(),
+        expected.len()
+    );
+}
+
+#[test]
+fn committed_report_md_is_rendered_from_committed_report_json() {
+    let report = report::read(&committed()).expect("report/report.json reads as a Report");
+    assert_same_text(
+        &markdown::render(&report),
+        &committed_md(),
+        "REPORT.md rendered from report/report.json",
+    );
+}
+
+#[test]
+fn committed_report_json_reads_back_field_for_field() {
+    // Written back, the report read is the committed file to the byte: no field is lost or
+    // defaulted in reading, and every float survives the round trip.
+    let report = report::read(&committed()).unwrap();
+    let text = std::fs::read_to_string(committed().join(report::JSON_FILE_NAME)).unwrap();
+    assert_same_text(
+        &serde_json::to_string_pretty(&report).unwrap(),
+        &text,
+        "report.json written back",
+    );
+}
+
+#[test]
+fn rerender_rewrites_report_md_from_report_json_alone() {
+    let dir = scratch("rerender");
+    std::fs::copy(
+        committed().join(report::JSON_FILE_NAME),
+        dir.join(report::JSON_FILE_NAME),
+    )
+    .unwrap();
+    // A stale page is replaced.
+    std::fs::write(dir.join(markdown::FILE_NAME), "stale").unwrap();
+    let report = report::rerender(&dir).expect("rerender");
+    assert_eq!(report.fabrics.len(), report.fabric_names.len());
+    let md = std::fs::read_to_string(dir.join(markdown::FILE_NAME)).unwrap();
+    assert_same_text(&md, &committed_md(), "REPORT.md written by rerender");
+    // Written atomically: nothing but the two files is left behind.
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, [markdown::FILE_NAME, report::JSON_FILE_NAME]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn rerender_fails_on_a_missing_or_damaged_report_json() {
+    let dir = scratch("damaged");
+    let missing = report::rerender(&dir).unwrap_err();
+    assert!(matches!(missing, ReportError::Read { .. }), "{missing}");
+    // A report.json cut short.
+    let text = std::fs::read_to_string(committed().join(report::JSON_FILE_NAME)).unwrap();
+    std::fs::write(dir.join(report::JSON_FILE_NAME), &text[..text.len() / 2]).unwrap();
+    let damaged = report::rerender(&dir).unwrap_err();
+    assert!(matches!(damaged, ReportError::Json { .. }), "{damaged}");
+    // A report.json without its fabrics.
+    let mut json = committed_json();
+    json.as_object_mut().unwrap().remove("fabrics");
+    std::fs::write(dir.join(report::JSON_FILE_NAME), json.to_string()).unwrap();
+    let incomplete = report::rerender(&dir).unwrap_err();
+    assert!(
+        matches!(incomplete, ReportError::Json { .. }),
+        "{incomplete}"
+    );
+    assert!(
+        !dir.join(markdown::FILE_NAME).exists(),
+        "no REPORT.md from a bad report.json"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The lines of the section under `## {heading}`, up to the next `## ` heading.
+fn section<'a>(md: &'a str, heading: &str) -> Vec<&'a str> {
+    let start = format!("## {heading}");
+    md.lines()
+        .skip_while(|l| *l != start)
+        .skip(1)
+        .take_while(|l| !l.starts_with("## "))
+        .collect()
+}
+
+/// The cells of a Markdown table row.
+fn cells(row: &str) -> Vec<&str> {
+    let inner = row.trim().trim_start_matches('|').trim_end_matches('|');
+    inner.split(" | ").map(str::trim).collect()
+}
+
+/// GitHub's anchor of a heading: lower case, spaces to hyphens, punctuation dropped.
+fn anchor(heading: &str) -> String {
+    heading
+        .trim_start_matches('#')
+        .trim()
+        .to_lowercase()
+        .chars()
+        .filter_map(|c| match c {
+            ' ' => Some('-'),
+            c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+            _ => None,
+        })
+        .collect()
+}
+
+/// One way of getting F that a fabric's data holds, as REPORT.md names it.
+#[derive(Debug)]
+struct Candidate {
+    name: String,
+    /// "cpu table", "cpu model" (paper mode or resonant), "direct" or "gpu".
+    kind: &'static str,
+    error: f64,
+    /// ns per evaluation on the CPU, ms per frame on the GPU.
+    cost: f64,
+    bytes: Option<f64>,
+}
+
+fn number(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+fn worst(error: &Value) -> f64 {
+    number(&error["uniform"]["relative_rms"]).max(number(&error["highlight"]["relative_rms"]))
+}
+
+/// Everything measured for the fabric `name` in the JSON, CPU and GPU.
+fn candidates(json: &Value, name: &str) -> Vec<Candidate> {
+    let fabric = json["fabrics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["name"] == name)
+        .unwrap_or_else(|| panic!("{name} is not in report.json"));
+    let mut out = vec![Candidate {
+        name: "direct".into(),
+        kind: "direct",
+        error: 0.0,
+        cost: number(&fabric["direct"]["ns_per_eval"]),
+        bytes: None,
+    }];
+    for p in fabric["paper"].as_array().unwrap() {
+        out.push(Candidate {
+            name: format!("paper N = {}", p["samples"]),
+            kind: "cpu model",
+            error: worst(&p["error"]),
+            cost: number(&p["timing"]["ns_per_eval"]),
+            bytes: None,
+        });
+    }
+    for r in fabric["resonant"].as_array().unwrap() {
+        out.push(Candidate {
+            name: format!("resonant {}", r["label"].as_str().unwrap()),
+            kind: "cpu model",
+            error: worst(&r["error"]),
+            cost: number(&r["timing"]["ns_per_eval"]),
+            bytes: None,
+        });
+    }
+    for t in fabric["tables"].as_array().unwrap() {
+        out.push(Candidate {
+            name: format!("{} {}", t["layout"].as_str().unwrap(), t["resolution"]),
+            kind: "cpu table",
+            error: worst(&t["error"]),
+            cost: number(&t["lookup"]["ns_per_eval"]),
+            bytes: Some(number(&t["bytes"])),
+        });
+    }
+    let gpu = &json["gpu"];
+    let gpu_fabric = gpu["fabrics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["name"] == name)
+        .filter(|_| gpu["measured"] == true);
+    if let Some(f) = gpu_fabric {
+        for p in f["points"].as_array().unwrap() {
+            let name = match (p["samples"].as_u64(), p["nodes"].as_object()) {
+                (Some(n), _) => format!("paper-mode shader N = {n}"),
+                (None, Some(n)) => format!(
+                    "resonant shader {}/{}/{}",
+                    n["surface"], n["volume"], n["base"]
+                ),
+                (None, None) => format!("lookup shader, {}", f["table"].as_str().unwrap()),
+            };
+            out.push(Candidate {
+                name,
+                kind: "gpu",
+                error: number(&p["image_relative_l2"]),
+                cost: number(&p["ms_per_frame"]),
+                bytes: None,
+            });
+        }
+    }
+    out
+}
+
+/// The budget a column header states ("smallest table ≤ 2%" → 0.02).
+fn column_budget(header: &str) -> Option<f64> {
+    let (_, after) = header.split_once("≤ ")?;
+    let percent: f64 = after.trim_end_matches('%').parse().ok()?;
+    Some(percent / 100.0)
+}
+
+#[test]
+fn pick_section_names_a_measured_choice_within_budget_for_every_fabric() {
+    let md = committed_md();
+    let json = committed_json();
+    let lines = section(&md, "Which table or evaluation to pick");
+    assert!(!lines.is_empty(), "REPORT.md has no pick section");
+    let header = lines
+        .iter()
+        .position(|l| l.starts_with("| fabric |"))
+        .expect("the pick section's per-fabric table");
+    let columns = cells(lines[header]);
+    for needed in [
+        "real-time image",
+        "smallest table",
+        "fastest CPU evaluation",
+        "no bake",
+        "ground truth",
+    ] {
+        assert!(
+            columns.iter().any(|c| c.starts_with(needed)),
+            "no column {needed:?} in {columns:?}"
+        );
+    }
+    let rows: Vec<Vec<&str>> = lines[header + 2..]
+        .iter()
+        .take_while(|l| l.starts_with('|'))
+        .map(|l| cells(l))
+        .collect();
+    let fabrics: Vec<&str> = json["fabrics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["name"].as_str().unwrap())
+        .collect();
+    let named: Vec<&str> = rows.iter().map(|r| r[0]).collect();
+    assert_eq!(
+        named, fabrics,
+        "one row per fabric of report.json, in order"
+    );
+    for row in &rows {
+        let fabric = row[0];
+        assert_eq!(row.len(), columns.len(), "{fabric}: {row:?}");
+        let all = candidates(&json, fabric);
+        for (column, cell) in columns.iter().zip(row).skip(1) {
+            let what = format!("{fabric}, {column}: {cell:?}");
+            let budget = column_budget(column);
+            let eligible: Vec<&Candidate> = all
+                .iter()
+                .filter(|c| match *column {
+                    c2 if c2.starts_with("real-time image") => c.kind == "gpu",
+                    c2 if c2.starts_with("smallest table") => c.kind == "cpu table",
+                    c2 if c2.starts_with("fastest CPU") => c.kind != "gpu",
+                    c2 if c2.starts_with("no bake") => c.kind == "cpu model",
+                    _ => c.kind == "direct",
+                })
+                .filter(|c| budget.is_none_or(|b| c.error <= b))
+                .collect();
+            if cell.starts_with("none within") {
+                assert!(eligible.is_empty(), "{what}, but {eligible:?} is");
+                continue;
+            }
+            let name = cell.split(" (").next().unwrap();
+            let pick = all
+                .iter()
+                .find(|c| c.name == name)
+                .unwrap_or_else(|| panic!("{what}: {name:?} is not in the fabric's data"));
+            assert!(
+                eligible.iter().any(|c| c.name == name),
+                "{what}: {pick:?} is not of the column's kind or over its budget"
+            );
+            // And the best of them: the smallest table, else the cheapest.
+            let better = eligible.iter().find(|c| match (c.bytes, pick.bytes) {
+                (Some(b), Some(p)) if column.starts_with("smallest") => b < p,
+                _ => !column.starts_with("smallest") && c.cost < pick.cost,
+            });
+            assert!(better.is_none(), "{what}: {better:?} beats it");
+        }
+    }
+}
+
+#[test]
+fn pick_section_links_resolve() {
+    let md = committed_md();
+    let anchors: Vec<String> = md
+        .lines()
+        .filter(|l| l.starts_with('#'))
+        .map(anchor)
+        .collect();
+    assert!(anchors.contains(&"which-table-or-evaluation-to-pick".to_string()));
+    assert!(anchors.contains(&"error-budgets".to_string()));
+    let text = section(&md, "Which table or evaluation to pick").join("\n");
+    let mut links = 0;
+    for (_, rest) in text.match_indices("](").map(|(i, _)| text.split_at(i + 2)) {
+        let target = rest.split(')').next().unwrap();
+        links += 1;
+        match target.strip_prefix('#') {
+            Some(a) => assert!(anchors.iter().any(|x| x == a), "no heading for #{a}"),
+            None => assert!(
+                committed().join(target).is_file(),
+                "report/{target} does not exist"
+            ),
+        }
+    }
+    assert!(
+        links >= 5,
+        "the pick section links its figures and sections"
+    );
+}
