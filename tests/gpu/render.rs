@@ -9,7 +9,7 @@
 //! Tables are baked here, in-process, at a small thread_frame resolution ([`RESOLUTION`]);
 //! baking is deterministic, so the committed reference images stay valid until the baker or
 //! the renderer changes. To regenerate them (and say so in the commit):
-//! `CLOTHBAKE_UPDATE_REFERENCE=1 cargo test --release --test render -- --nocapture`; the
+//! `CLOTHBAKE_UPDATE_REFERENCE=1 cargo test --release --test gpu render:: -- --nocapture`; the
 //! adapter that made them is recorded in tests/data/render/DEVICE.
 
 use crate::common::*;
