@@ -14,8 +14,10 @@ cd "$(dirname "$0")/.."
 # (CLOTHBAKE_BIN) rather than building it again with the core's own feature set.
 CLOTHBAKE_BIN="$PWD/target/release/clothbake" cargo test --release --locked --workspace
 # Without the runtime: the CLI without `render`/`view`/`report` (its own test binary, `cli`,
-# tests/cli/, against that binary). Nothing else needs running again: the feature only
-# changes lib.rs's list of modules and main.rs's commands (tests/repository/feature_split.rs
-# keeps it so), and the core modules build the same either way. The workspace's feature
+# tests/cli/, against that binary; `eval --evaluator` there exercises the evaluators without
+# their GPU forms). Nothing else needs running again: the feature only changes lib.rs's list
+# of modules, the CLI's commands and the evaluators' GPU forms
+# (tests/repository/feature_split.rs keeps it so), and the other core modules build the same
+# either way. The workspace's feature
 # unification differs here, so some dependencies build a second time.
 cargo test --release --locked --no-default-features --bins --test cli

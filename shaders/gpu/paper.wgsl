@@ -4,7 +4,7 @@
 // src/gpu/direct.rs, `GpuDirect`, as (cos α, sin α, weight)), each sample evaluated by
 // model/tangent_sample.wgsl (required below). Mirrors `ThreadModel::means` and `Patch::terms` of
 // src/model/patch.rs. Paper-mode nodes are single points, so the interval clipping of the
-// direct rule never applies. tests/gpu_direct.rs bounds the difference to the CPU.
+// direct rule never applies. tests/gpu/direct.rs bounds the difference to the CPU.
 //
 // Every top-level name starts with `cloth_`/`Cloth` (the `GpuBrdf` naming contract).
 //

@@ -8,7 +8,7 @@
 // Where the CPU's f64 formulas lose their accuracy in f32, mathematically identical forms
 // that keep it are used instead: cos²θd near θd → ±π/2 (both directions near ±t), 1 − Fr
 // near grazing Fresnel incidence, and φd, ψd, cos(φd/2) by half-angle forms instead of
-// acos and √((1 + cos)/2). tests/gpu_direct.rs and tests/gpu_resonant.rs bound the
+// acos and √((1 + cos)/2). tests/gpu/direct.rs and tests/gpu/resonant.rs bound the
 // difference to the CPU.
 
 // A direction pair in a thread's fixed axes {t0, b, z} with the α-independent parts of P

@@ -58,7 +58,7 @@ impl FabricSet {
     /// The built-in measured fabrics.
     pub fn builtin() -> Self {
         Self::parse(BUILTIN_FABRICS_TOML, "tables/fabrics.toml (built in)")
-            .expect("the built-in fabric file is valid; tests/fabric_file.rs checks it")
+            .expect("the built-in fabric file is valid; tests/files/fabric_file.rs checks it")
     }
 
     /// Parses and validates fabric TOML; `origin` names the source in errors.

@@ -13,7 +13,7 @@ use super::resonant::ResonantNodes;
 /// standard deviation σ in θh is at least σ wide in α, and σ/16 spacing resolves it to far
 /// below 1e-6. What remains are the O(h²) errors at the kinks of the reweighted min() terms
 /// (the kinks of max(cos, 0) are removed by clipping, see `ThreadModel::means`). Measured
-/// against an independent rule (tests/direct_convergence.rs), the largest relative
+/// against an independent rule (tests/model/direct_convergence.rs), the largest relative
 /// difference on the built-in fabrics is 2.9e-5 at 0.1° and 7.5e-6 at 0.05° (this value),
 /// a 13× margin under the 1e-4 that docs/model.md#direct-evaluation asks for.
 pub const DIRECT_MAX_SPACING_DEG: f64 = 0.05;
@@ -79,7 +79,7 @@ pub enum Integration {
     Resonant(ResonantNodes),
     /// The baker's rule: the direct rule at a coarser spacing, σ/6 of the narrowest lobe
     /// (and at most 2°), with fewer midpoints in clipped slivers. Measured within 3e-4
-    /// relative RMS of the direct evaluation (tests/direct_convergence.rs), a small fraction
+    /// relative RMS of the direct evaluation (tests/model/direct_convergence.rs), a small fraction
     /// of any table's error, at an eighth to a fortieth of the cost.
     Baking,
 }

@@ -52,7 +52,7 @@ impl ResonantNodes {
     /// The default counts: measured against 5/3/2, 5/4/2 and 6/4/2, the cheapest with every
     /// built-in fabric within 0.25% relative RMS of the direct rule with margin on 20,000
     /// uniform and 20,000 highlight pairs (worst 0.20%, crepe's highlight pairs; 5/4/2 reaches
-    /// 0.22%), at 12–32 evaluations per light (tests/resonant.rs).
+    /// 0.22%), at 12–32 evaluations per light (tests/model/resonant.rs).
     pub const DEFAULT: Self = Self {
         surface: 6,
         volume: 5,

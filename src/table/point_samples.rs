@@ -4,7 +4,7 @@
 //! `wide::f32x8`). `split_frame` evaluates a thread's point masses (its flat segments)
 //! with it. It follows the f64 kernel `ThreadModel::sample` of `src/model/patch.rs`, in the
 //! forms that keep their accuracy in f32 (see `shaders/model/tangent_sample.wgsl`), with [`fast_math`]'s
-//! atan2 and exp; `tests/table.rs` bounds the difference through the whole lookup.
+//! atan2 and exp; `tests/tables/table.rs` bounds the difference through the whole lookup.
 //!
 //! Where a sample contributes nothing (a direction faces away from it, or a projection is
 //! degenerate) its lanes are selected to 0 rather than skipped, so that every lane runs the
