@@ -141,20 +141,9 @@ fn cells(row: &str) -> Vec<&str> {
     inner.split(" | ").map(str::trim).collect()
 }
 
-/// GitHub's anchor of a heading: lower case, spaces to hyphens, punctuation dropped.
-fn anchor(heading: &str) -> String {
-    heading
-        .trim_start_matches('#')
-        .trim()
-        .to_lowercase()
-        .chars()
-        .filter_map(|c| match c {
-            ' ' => Some('-'),
-            c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
-            _ => None,
-        })
-        .collect()
-}
+#[path = "../common/anchor.rs"]
+mod anchor_of;
+use anchor_of::github_anchor as anchor;
 
 /// One way of getting F that a fabric's data holds, as REPORT.md names it.
 #[derive(Debug)]

@@ -63,19 +63,9 @@ fn link_targets(text: &str) -> Vec<String> {
     targets
 }
 
-/// GitHub's anchor of a heading: lower case, spaces to '-', other punctuation dropped.
-fn slug(heading: &str) -> String {
-    heading
-        .trim()
-        .to_lowercase()
-        .chars()
-        .filter_map(|c| match c {
-            ' ' => Some('-'),
-            c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
-            _ => None,
-        })
-        .collect()
-}
+#[path = "../common/anchor.rs"]
+mod anchor;
+use anchor::github_anchor as slug;
 
 /// The anchors of a page's headings (outside code blocks), with GitHub's `-1`, `-2` suffixes
 /// for repeated headings.
