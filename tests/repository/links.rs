@@ -149,17 +149,17 @@ fn no_file_points_outside_the_repository() {
         .output()
         .expect("git runs");
     let files = String::from_utf8(output.stdout).unwrap();
+    // Spelled in pieces so that this file does not name the paths it looks for.
+    let patterns = [["..", "shared"].join("/"), ["shared", "MODEL.md"].join("/")];
     let mut offenders = Vec::new();
     for file in files.split('\0').filter(|f| !f.is_empty()) {
         let Ok(text) = std::fs::read_to_string(root().join(file)) else {
             continue; // binary files (images, EXR test data)
         };
-        if text.contains("../shared") || text.contains("shared/MODEL.md") {
+        if patterns.iter().any(|p| text.contains(p.as_str())) {
             offenders.push(file.to_string());
         }
     }
-    // This file names the patterns it looks for.
-    offenders.retain(|f| !f.ends_with("repository/links.rs"));
     assert!(
         offenders.is_empty(),
         "files that point outside the repository: {offenders:?}"
