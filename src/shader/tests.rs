@@ -1,8 +1,8 @@
 use super::*;
+use crate::table::Layout;
 use crate::table::wgsl::{
     LookupShaderOptions, layout_module, lookup_composer, lookup_wgsl_in_group,
 };
-use crate::table::{Layout, Plane, Table};
 
 /// The generated modules that registered files may require.
 const GENERATED: [&str; 5] = [
@@ -196,21 +196,6 @@ fn every_file_is_registered_once_and_requires_known_modules() {
     }
 }
 
-/// A table of `fabric` with zero texels at the layout's smallest resolution: the generated
-/// WGSL depends on the geometry only.
-fn empty_table(fabric: &crate::model::Fabric, layout: Layout) -> Table {
-    let resolution = layout.resolution_ladder()[0];
-    let planes = layout
-        .plane_specs(fabric, resolution)
-        .into_iter()
-        .map(|spec| Plane {
-            data: vec![0.0; spec.texel_count() * spec.channels.len()],
-            spec,
-        })
-        .collect();
-    Table::new(layout, resolution, fabric, planes).expect("table")
-}
-
 /// Parses and validates `source` with naga, as wgpu does before a pipeline.
 fn validate(what: &str, source: &str) -> naga::Module {
     assert!(
@@ -247,7 +232,8 @@ fn every_composition_validates() {
     let mut brdfs: Vec<(String, String)> = Vec::new();
     for fabric in fabrics.fabrics() {
         for &layout in Layout::ALL {
-            let table = empty_table(fabric, layout);
+            // The generated WGSL depends on the geometry only: zero texels at the smallest resolution.
+            let table = crate::table::zero_table(fabric, layout, layout.resolution_ladder()[0]);
             for horizon_band in [true, false] {
                 let what = format!("{} {layout} band {horizon_band}", fabric.name);
                 let options = LookupShaderOptions { horizon_band };

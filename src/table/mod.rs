@@ -471,3 +471,18 @@ impl Table {
         Vec3::splat(r) + self.albedo[0].as_vec3() * t1 + self.albedo[1].as_vec3() * t2
     }
 }
+
+/// A table of `fabric` with zero texels at `resolution`, for tests of what depends on the
+/// geometry only (the generated WGSL, its bindings).
+#[cfg(test)]
+pub(crate) fn zero_table(fabric: &Fabric, layout: Layout, resolution: u32) -> Table {
+    let planes = layout
+        .plane_specs(fabric, resolution)
+        .into_iter()
+        .map(|spec| Plane {
+            data: vec![0.0; spec.texel_count() * spec.channels.len()],
+            spec,
+        })
+        .collect();
+    Table::new(layout, resolution, fabric, planes).expect("table")
+}

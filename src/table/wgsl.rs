@@ -169,7 +169,7 @@ pub fn wgsl_vec<T: Into<f64> + Copy>(values: &[T]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::table::{Layout, Plane};
+    use crate::table::Layout;
 
     #[test]
     fn threshold_is_the_f32_just_below_the_model_threshold() {
@@ -200,26 +200,12 @@ mod tests {
         }
     }
 
-    /// A table of `fabric` with zero texels: the generated WGSL depends on the geometry only.
-    fn empty_table(fabric: &crate::model::Fabric, layout: Layout) -> Table {
-        let resolution = layout.default_resolution();
-        let planes = layout
-            .plane_specs(fabric, resolution)
-            .into_iter()
-            .map(|spec| Plane {
-                data: vec![0.0; spec.texel_count() * spec.channels.len()],
-                spec,
-            })
-            .collect();
-        Table::new(layout, resolution, fabric, planes).expect("table")
-    }
-
     #[test]
     fn generated_lookup_is_valid_wgsl_for_every_layout_and_builtin_fabric() {
         for fabric in crate::formats::fabric_toml::FabricSet::builtin().fabrics() {
             for (&layout, horizon_band) in Layout::ALL.iter().flat_map(|l| [(l, true), (l, false)])
             {
-                let table = empty_table(fabric, layout);
+                let table = crate::table::zero_table(fabric, layout, layout.default_resolution());
                 let source = lookup_wgsl_with(&table, &LookupShaderOptions { horizon_band });
                 // Without the band no pair calls the resonant quadrature.
                 assert_eq!(
