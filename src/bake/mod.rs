@@ -89,5 +89,5 @@ pub fn bake(
         .zip(&values)
         .map(|(spec, values)| quantize(fabric, spec, values))
         .collect::<Result<Vec<_>, _>>()?;
-    Table::new(layout, resolution, fabric, planes).map_err(BakeError::Internal)
+    Table::new(layout, resolution, fabric, planes).map_err(|e| BakeError::Internal(e.to_string()))
 }

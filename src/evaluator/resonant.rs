@@ -47,7 +47,7 @@ impl EvaluatorUnit for ResonantUnit {
         };
         nodes
             .validate()
-            .map_err(|message| parameter_error(self, parameter, message))?;
+            .map_err(|e| parameter_error(self, parameter, e.to_string()))?;
         Ok(Arc::new(Resonant { nodes }))
     }
 }

@@ -440,7 +440,8 @@ pub fn read_table_bytes(
             )));
         }
     }
-    let table = Table::new(layout, resolution, fabric, planes).map_err(invalid)?;
+    let table =
+        Table::new(layout, resolution, fabric, planes).map_err(|e| invalid(e.to_string()))?;
     Ok(TableFile {
         table,
         version: provenance.clothbake_version.clone(),

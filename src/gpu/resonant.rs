@@ -84,9 +84,9 @@ impl GpuResonant {
         fabric: &Fabric,
         nodes: ResonantNodes,
     ) -> Result<Self, GpuError> {
-        nodes.validate().map_err(|message| GpuError::Invalid {
+        nodes.validate().map_err(|e| GpuError::Invalid {
             name: "resonant nodes".into(),
-            message,
+            message: e.to_string(),
         })?;
         fabric.validate().map_err(|e| GpuError::Invalid {
             name: "fabric".into(),

@@ -13,4 +13,4 @@ pub mod resonant;
 pub use curve::Integration;
 pub use fabric::{Fabric, FabricError, GaussianWidth, ModelOptions, TangentSampling, Thread};
 pub use patch::{Patch, PatchTerms, ThreadMeans};
-pub use resonant::ResonantNodes;
+pub use resonant::{NodeCountError, ResonantNodes};

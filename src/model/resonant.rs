@@ -60,21 +60,27 @@ impl ResonantNodes {
     };
 
     /// Checks every count is in 1..=[`Self::MAX`], naming the one that is not.
-    pub fn validate(&self) -> Result<(), String> {
-        for (name, n) in [
+    pub fn validate(&self) -> Result<(), NodeCountError> {
+        for (kind, count) in [
             ("surface", self.surface),
             ("volume", self.volume),
             ("base", self.base),
         ] {
-            if !(1..=Self::MAX).contains(&n) {
-                return Err(format!(
-                    "resonant {name} nodes must be in 1..={}, got {n}",
-                    Self::MAX
-                ));
+            if !(1..=Self::MAX).contains(&count) {
+                return Err(NodeCountError { kind, count });
             }
         }
         Ok(())
     }
+}
+
+/// A node count of [`ResonantNodes`] outside 1..=[`ResonantNodes::MAX`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("resonant {kind} nodes must be in 1..={max}, got {count}", max = ResonantNodes::MAX)]
+pub struct NodeCountError {
+    /// "surface", "volume" or "base".
+    pub kind: &'static str,
+    pub count: u32,
 }
 
 impl Default for ResonantNodes {

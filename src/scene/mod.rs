@@ -51,35 +51,55 @@ pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 20;
 /// The built-in scene, `tables/scene.toml`.
 pub const BUILTIN_SCENE_TOML: &str = include_str!("../../tables/scene.toml");
 
-fn check_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<(), String> {
+/// What is wrong with a scene's text: TOML that does not read as a scene, or a field outside
+/// what clothbake accepts.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneParseError {
+    #[error("{0}")]
+    Toml(#[from] toml::de::Error),
+    #[error("field '{field}': {message}")]
+    Field { field: String, message: String },
+}
+
+fn field_error(field: impl Into<String>, message: impl Into<String>) -> SceneParseError {
+    SceneParseError::Field {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+fn check_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<(), SceneParseError> {
     if value.is_finite() && (lo..=hi).contains(&value) {
         Ok(())
     } else {
-        Err(format!(
-            "field '{field}': must be a number in [{lo}, {hi}], got {value}"
+        Err(field_error(
+            field,
+            format!("must be a number in [{lo}, {hi}], got {value}"),
         ))
     }
 }
 
-fn check_vector(field: &str, value: [f64; 3], bound: f64) -> Result<(), String> {
+fn check_vector(field: &str, value: [f64; 3], bound: f64) -> Result<(), SceneParseError> {
     if value.iter().all(|v| v.is_finite() && v.abs() <= bound) {
         Ok(())
     } else {
-        Err(format!(
-            "field '{field}': every component must be a finite number within ±{bound}, got {value:?}"
+        Err(field_error(
+            field,
+            format!("every component must be a finite number within ±{bound}, got {value:?}"),
         ))
     }
 }
 
-fn check_color(field: &str, value: [f64; 3]) -> Result<(), String> {
+fn check_color(field: &str, value: [f64; 3]) -> Result<(), SceneParseError> {
     if value
         .iter()
         .all(|v| v.is_finite() && (0.0..=1e6).contains(v))
     {
         Ok(())
     } else {
-        Err(format!(
-            "field '{field}': every component must be in [0, 1e6], got {value:?}"
+        Err(field_error(
+            field,
+            format!("every component must be in [0, 1e6], got {value:?}"),
         ))
     }
 }
@@ -287,30 +307,41 @@ pub struct Budget {
 
 /// Why a scene file was rejected.
 #[derive(Debug, thiserror::Error)]
-#[error("scene file {path}: {message}")]
-pub struct SceneError {
-    pub path: PathBuf,
-    pub message: String,
+pub enum SceneError {
+    #[error("scene file {path}: {source}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("scene file {path}: is {size} bytes, over the {MAX_SCENE_FILE_BYTES}-byte limit")]
+    TooLarge { path: PathBuf, size: u64 },
+    #[error("scene file {path}: {source}")]
+    Invalid {
+        path: PathBuf,
+        source: SceneParseError,
+    },
 }
 
 impl Scene {
     /// Reads and validates a scene file; `fabric_file` comes back resolved against the
     /// scene's directory.
     pub fn load(path: &Path) -> Result<Self, SceneError> {
-        let fail = |message: String| SceneError {
+        let read = |source| SceneError::Read {
             path: path.to_path_buf(),
-            message,
+            source,
         };
-        let size = std::fs::metadata(path)
-            .map_err(|e| fail(e.to_string()))?
-            .len();
+        let size = std::fs::metadata(path).map_err(read)?.len();
         if size > MAX_SCENE_FILE_BYTES {
-            return Err(fail(format!(
-                "is {size} bytes, over the {MAX_SCENE_FILE_BYTES}-byte limit"
-            )));
+            return Err(SceneError::TooLarge {
+                path: path.to_path_buf(),
+                size,
+            });
         }
-        let text = std::fs::read_to_string(path).map_err(|e| fail(e.to_string()))?;
-        let mut scene = Self::parse(&text).map_err(fail)?;
+        let text = std::fs::read_to_string(path).map_err(read)?;
+        let mut scene = Self::parse(&text).map_err(|source| SceneError::Invalid {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let base = path.parent().unwrap_or(Path::new(""));
         if let Some(file) = &scene.fabric_file {
             scene.fabric_file = Some(base.join(file));
@@ -325,8 +356,8 @@ impl Scene {
     }
 
     /// Parses and validates a scene from TOML text; relative paths stay as written.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let scene: Scene = toml::from_str(text).map_err(|e| e.to_string())?;
+    pub fn parse(text: &str) -> Result<Self, SceneParseError> {
+        let scene: Scene = toml::from_str(text)?;
         scene.validate()?;
         Ok(scene)
     }
@@ -337,29 +368,34 @@ impl Scene {
         Self::parse(BUILTIN_SCENE_TOML).expect("the built-in scene is valid")
     }
 
-    fn validate(&self) -> Result<(), String> {
+    fn validate(&self) -> Result<(), SceneParseError> {
         if self.fabrics.is_empty() {
-            return Err("field 'fabrics': names no fabric".into());
+            return Err(field_error("fabrics", "names no fabric"));
         }
         if let Some(name) = &self.layout {
             Layout::from_name(name)
-                .ok_or_else(|| format!("field 'layout': unknown layout '{name}'"))?;
+                .ok_or_else(|| field_error("layout", format!("unknown layout '{name}'")))?;
         }
         match (self.budget.max_error, self.budget.max_bytes_per_fabric) {
-            (Some(_), Some(_)) => {
-                Err("field 'budget': give max_error or max_bytes_per_fabric, not both".into())
-            }
-            (Some(e), None) if !(e.is_finite() && e > 0.0) => Err(format!(
-                "field 'budget.max_error': must be a positive number, got {e}"
+            (Some(_), Some(_)) => Err(field_error(
+                "budget",
+                "give max_error or max_bytes_per_fabric, not both",
             )),
-            (None, Some(0)) => Err("field 'budget.max_bytes_per_fabric': must be positive".into()),
+            (Some(e), None) if !(e.is_finite() && e > 0.0) => Err(field_error(
+                "budget.max_error",
+                format!("must be a positive number, got {e}"),
+            )),
+            (None, Some(0)) => Err(field_error(
+                "budget.max_bytes_per_fabric",
+                "must be positive",
+            )),
             _ => Ok(()),
         }?;
         self.validate_render()
     }
 
     /// Checks the fields that only `render` uses.
-    fn validate_render(&self) -> Result<(), String> {
+    fn validate_render(&self) -> Result<(), SceneParseError> {
         check_range("exposure", self.exposure, 1e-6, 1e6)?;
         let c = &self.camera;
         check_vector("camera.target", c.target, 1e6)?;
@@ -369,21 +405,27 @@ impl Scene {
         check_range("camera.pitch_deg", c.pitch_deg, -89.9, 89.9)?;
         check_range("camera.fov_y_deg", c.fov_y_deg, 1.0, 150.0)?;
         if !(1..=MAX_ENVIRONMENT_SAMPLES).contains(&self.environment.samples) {
-            return Err(format!(
-                "field 'environment.samples': must be in 1..={MAX_ENVIRONMENT_SAMPLES}, got {}",
-                self.environment.samples
+            return Err(field_error(
+                "environment.samples",
+                format!(
+                    "must be in 1..={MAX_ENVIRONMENT_SAMPLES}, got {}",
+                    self.environment.samples
+                ),
             ));
         }
         if self.lights.is_empty() {
-            return Err(
-                "field 'lights': names no light (leave [[lights]] out for the default lights)"
-                    .into(),
-            );
+            return Err(field_error(
+                "lights",
+                "names no light (leave [[lights]] out for the default lights)",
+            ));
         }
         if self.lights.len() > MAX_LIGHTS {
-            return Err(format!(
-                "field 'lights': {} lights, at most {MAX_LIGHTS} are supported",
-                self.lights.len()
+            return Err(field_error(
+                "lights",
+                format!(
+                    "{} lights, at most {MAX_LIGHTS} are supported",
+                    self.lights.len()
+                ),
             ));
         }
         for (i, light) in self.lights.iter().enumerate() {
@@ -397,9 +439,9 @@ impl Scene {
                     check_vector(&field("direction"), direction, 1e6)?;
                     let length = direction.iter().map(|v| v * v).sum::<f64>().sqrt();
                     if length < 1e-9 {
-                        return Err(format!(
-                            "field '{}': must not be the zero vector",
-                            field("direction")
+                        return Err(field_error(
+                            field("direction"),
+                            "must not be the zero vector",
                         ));
                     }
                     check_color(&field("color"), color)?;
@@ -418,27 +460,31 @@ impl Scene {
         }
         let m = &self.mesh;
         if !(2..=MAX_MESH_RESOLUTION).contains(&m.resolution) {
-            return Err(format!(
-                "field 'mesh.resolution': must be in [2, {MAX_MESH_RESOLUTION}], got {}",
-                m.resolution
+            return Err(field_error(
+                "mesh.resolution",
+                format!(
+                    "must be in [2, {MAX_MESH_RESOLUTION}], got {}",
+                    m.resolution
+                ),
             ));
         }
         if m.folds > MAX_FOLDS {
-            return Err(format!(
-                "field 'mesh.folds': must be at most {MAX_FOLDS}, got {}",
-                m.folds
+            return Err(field_error(
+                "mesh.folds",
+                format!("must be at most {MAX_FOLDS}, got {}", m.folds),
             ));
         }
         check_range("mesh.fold_depth", m.fold_depth, 0.0, 1.0)?;
         match (m.kind, &m.path) {
-            (MeshKind::Obj, None) => {
-                Err("field 'mesh.path': kind \"obj\" needs the path of an OBJ file".into())
-            }
+            (MeshKind::Obj, None) => Err(field_error(
+                "mesh.path",
+                "kind \"obj\" needs the path of an OBJ file",
+            )),
             (MeshKind::Obj, Some(_)) | (_, None) => Ok(()),
-            (_, Some(_)) => Err(
-                "field 'mesh.path': only meshes of kind \"obj\" read a file (add kind = \"obj\")"
-                    .into(),
-            ),
+            (_, Some(_)) => Err(field_error(
+                "mesh.path",
+                "only meshes of kind \"obj\" read a file (add kind = \"obj\")",
+            )),
         }
     }
 
@@ -516,13 +562,17 @@ mod tests {
             ("[mesh]\nkind = \"teapot\"\n", "teapot"),
         ];
         for (extra, field) in cases {
-            let error = Scene::parse(&format!("{base}{extra}")).expect_err(extra);
+            let error = Scene::parse(&format!("{base}{extra}"))
+                .expect_err(extra)
+                .to_string();
             assert!(error.contains(field), "{extra}: {error}");
         }
         let nine =
             "[[lights]]\nkind = \"directional\"\ndirection = [0.0, 1.0, 0.0]\nirradiance = 1.0\n"
                 .repeat(MAX_LIGHTS + 1);
-        let error = Scene::parse(&format!("{base}{nine}")).unwrap_err();
+        let error = Scene::parse(&format!("{base}{nine}"))
+            .unwrap_err()
+            .to_string();
         assert!(error.contains("at most 8"), "{error}");
     }
 

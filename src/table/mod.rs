@@ -343,6 +343,22 @@ impl PartialEq for Table {
     }
 }
 
+/// Planes that are not the ones a layout's table holds.
+#[derive(Debug, thiserror::Error)]
+pub enum PlaneShapeError {
+    #[error("planes {found:?} do not match the layout's {expected:?}")]
+    Shapes {
+        found: Vec<PlaneSpec>,
+        expected: Vec<PlaneSpec>,
+    },
+    #[error("plane {plane} holds {found} values, expected {expected}")]
+    Values {
+        plane: String,
+        found: usize,
+        expected: usize,
+    },
+}
+
 impl Table {
     /// Assembles a table, checking that the planes have exactly the layout's shapes.
     pub fn new(
@@ -350,24 +366,23 @@ impl Table {
         resolution: u32,
         fabric: &Fabric,
         planes: Vec<Plane>,
-    ) -> Result<Self, String> {
-        let specs = layout.plane_specs(fabric, resolution);
-        let shapes: Vec<&PlaneSpec> = planes.iter().map(|p| &p.spec).collect();
-        if shapes != specs.iter().collect::<Vec<_>>() {
-            return Err(format!(
-                "planes {shapes:?} do not match the layout's {specs:?}"
-            ));
+    ) -> Result<Self, PlaneShapeError> {
+        let expected = layout.plane_specs(fabric, resolution);
+        if !planes.iter().map(|p| &p.spec).eq(expected.iter()) {
+            return Err(PlaneShapeError::Shapes {
+                found: planes.iter().map(|p| p.spec.clone()).collect(),
+                expected,
+            });
         }
         if let Some(p) = planes
             .iter()
             .find(|p| p.data.len() != p.spec.texel_count() * p.spec.channels.len())
         {
-            return Err(format!(
-                "plane {} holds {} values, expected {}",
-                p.spec.name,
-                p.data.len(),
-                p.spec.texel_count() * p.spec.channels.len()
-            ));
+            return Err(PlaneShapeError::Values {
+                plane: p.spec.name.clone(),
+                found: p.data.len(),
+                expected: p.spec.texel_count() * p.spec.channels.len(),
+            });
         }
         let albedo = fabric.threads().map(|t| DVec3::from_array(t.albedo_rgb()));
         Ok(Self {
