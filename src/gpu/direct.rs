@@ -233,7 +233,7 @@ impl GpuBrdf for GpuDirect {
     }
 
     fn label(&self) -> String {
-        format!("direct paper N={}", self.samples)
+        format!("paper N={}", self.samples)
     }
 }
 

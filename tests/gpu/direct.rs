@@ -189,10 +189,7 @@ fn sample_count_is_validated() {
         }
     }
     let direct = GpuDirect::new(&context, &fabric, gpu_max_samples()).expect("max N");
-    assert_eq!(
-        direct.label(),
-        format!("direct paper N={}", gpu_max_samples())
-    );
+    assert_eq!(direct.label(), format!("paper N={}", gpu_max_samples()));
 }
 
 fn gpu_max_samples() -> u32 {
