@@ -11,6 +11,7 @@ use crate::formats::table_exr::{TableFile, TableFileError, read_table};
 use crate::measure::accuracy::{lookup_batch_f64, lookup_f32};
 use crate::model::Fabric;
 use crate::sampling::Sampler;
+use crate::table::Table;
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -64,7 +65,7 @@ impl Evaluator for TableLookup {
             Some(path) => read_table(path).map_err(TableError::File)?,
             None => load_fabric_table(&context.tables, fabric)?,
         };
-        Ok(Box::new(TableEvaluation { file }))
+        Ok(Box::new(TableEvaluation { table: file.table }))
     }
 }
 
@@ -125,29 +126,29 @@ pub fn load_fabric_table(tables: &Path, fabric: &Fabric) -> Result<TableFile, Ta
     Ok(file)
 }
 
-/// One table, read and checked.
+/// One table, read and checked (or just baked).
 pub struct TableEvaluation {
-    pub file: TableFile,
+    pub table: Table,
 }
 
 impl FabricEvaluator for TableEvaluation {
     fn label(&self) -> String {
-        let table = &self.file.table;
+        let table = &self.table;
         format!("table {} R={}", table.layout, table.resolution)
     }
 
     fn eval(&self, wi: DVec3, wo: DVec3) -> DVec3 {
-        lookup_f32(&self.file.table, wi, wo)
+        lookup_f32(&self.table, wi, wo)
     }
 
     fn eval_batch(&self, pairs: &[(DVec3, DVec3)]) -> Vec<DVec3> {
         let mut out = vec![DVec3::ZERO; pairs.len()];
-        lookup_batch_f64(&self.file.table, pairs, &mut out);
+        lookup_batch_f64(&self.table, pairs, &mut out);
         out
     }
 
     fn sampler(&self) -> Sampler {
-        Sampler::for_table(&self.file.table)
+        Sampler::for_table(&self.table)
     }
 
     #[cfg(feature = "runtime")]
@@ -158,7 +159,7 @@ impl FabricEvaluator for TableEvaluation {
     ) -> Result<Box<dyn crate::gpu::GpuBrdf>, EvaluatorError> {
         Ok(Box::new(crate::gpu::GpuTable::with_horizon_band(
             context,
-            &self.file.table,
+            &self.table,
             options.horizon_band,
         )?))
     }

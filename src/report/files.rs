@@ -24,21 +24,36 @@ pub(super) fn write_file(out: &Path, name: &str, text: &str) -> Result<(), Repor
     result.map_err(|source| ReportError::Io { path, source })
 }
 
-/// Reads `out/report.json`, as a report run wrote it.
+/// Reads `out/report.json`, as a report run wrote it, and derives every point's comparisons
+/// from its figures ([`super::FabricReport::judge`]).
 pub fn read(out: &Path) -> Result<Report, ReportError> {
     let path = out.join(JSON_FILE_NAME);
     let text = std::fs::read_to_string(&path).map_err(|source| ReportError::Read {
         path: path.clone(),
         source,
     })?;
-    serde_json::from_str(&text).map_err(|source| ReportError::Json { path, source })
+    let mut report: Report =
+        serde_json::from_str(&text).map_err(|source| ReportError::Json { path, source })?;
+    report
+        .fabrics
+        .iter_mut()
+        .for_each(super::FabricReport::judge);
+    Ok(report)
 }
 
-/// Renders `out/REPORT.md` again from `out/report.json`, measuring nothing, and writes it
-/// atomically; returns the report read. The plots and report.json are left as they are.
+/// report.json's text.
+pub(super) fn json(report: &Report) -> Result<String, ReportError> {
+    serde_json::to_string_pretty(report)
+        .map_err(|e| ReportError::Config(format!("cannot serialise the report: {e}")))
+}
+
+/// Renders `out/REPORT.md` again from the measurements in `out/report.json`, measuring
+/// nothing, and writes both files atomically with the comparisons derived again; returns the
+/// report read. The plots are left as they are.
 pub fn rerender(out: &Path) -> Result<Report, ReportError> {
     let report = read(out)?;
     write_file(out, markdown::FILE_NAME, &markdown::render(&report))?;
+    write_file(out, JSON_FILE_NAME, &json(&report)?)?;
     Ok(report)
 }
 

@@ -7,9 +7,11 @@
 //! its place. A software adapter (device type Cpu, e.g. llvmpipe) is measured like any
 //! other and named as such, so its "GPU" times are read as what they are.
 
-use super::ReportConfig;
-use crate::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, GpuResonant, GpuTable};
-use crate::model::{Integration, Patch, ResonantNodes};
+use super::{Evaluation, ReportConfig};
+use crate::evaluator::table::TableEvaluation;
+use crate::evaluator::{EvaluationContext, FabricEvaluator, GpuOptions};
+use crate::gpu::{GpuContext, GpuError};
+use crate::model::{Integration, Patch};
 use crate::render::image::{LinearImage, image_error};
 use crate::render::{FrameSettings, Headless, reference};
 use crate::scene::Scene;
@@ -18,20 +20,12 @@ use crate::table::Table;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
-/// A shader of the GPU section: its kind ("lookup", "paper", "resonant"), paper-mode N and
-/// resonant node counts, as [`GpuPoint`] records them.
-type ShaderId = (&'static str, Option<u32>, Option<ResonantNodes>);
-
 /// One way of shading the scene: its GPU time per frame and its image error.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GpuPoint {
-    /// "lookup" (the table shader), "paper" or "resonant" (the model evaluated in the shader
-    /// by paper mode or by the resonant quadrature).
-    pub shader: String,
-    /// Paper-mode samples per thread for "paper"; None otherwise.
-    pub samples: Option<u32>,
-    /// Node counts for "resonant"; None otherwise.
-    pub nodes: Option<ResonantNodes>,
+    /// What the shader evaluates F by: the table's lookup, or the model in the shader by
+    /// paper mode or by the resonant quadrature.
+    pub evaluation: Evaluation,
     /// Median milliseconds per frame.
     pub ms_per_frame: f64,
     /// Milliseconds of each timed frame (after one untimed warm-up frame).
@@ -47,13 +41,18 @@ pub struct GpuPoint {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GpuFabric {
     pub name: String,
-    /// Layout and resolution of the table the lookup shader sampled.
-    pub table: String,
     /// Pixels the reference covers.
     pub covered_pixels: usize,
     /// Seconds the CPU reference render took (all cores).
     pub reference_seconds: f64,
     pub points: Vec<GpuPoint>,
+}
+
+impl GpuFabric {
+    /// The lookup shader's point, if it was measured.
+    pub fn lookup(&self) -> Option<&GpuPoint> {
+        self.points.iter().find(|p| !p.evaluation.is_model())
+    }
 }
 
 /// The GPU section of the report.
@@ -161,6 +160,7 @@ fn measure_on(
     progress: &mut dyn FnMut(&str),
 ) -> Result<(Vec<GpuFabric>, String), String> {
     let text = |e: GpuError| e.to_string();
+    let context_files = EvaluationContext::default();
     let scene = Scene::builtin();
     // The shaders are compared on the scene's lights alone: an environment light multiplies
     // every shader's BRDF work by its sample count (docs/sampling.md#measured).
@@ -178,29 +178,39 @@ fn measure_on(
     for table in tables {
         let fabric = &table.fabric;
         let name = &fabric.name;
-        let mut brdfs: Vec<(ShaderId, Box<dyn GpuBrdf>)> = vec![(
-            ("lookup", None, None),
-            Box::new(GpuTable::new(context, table).map_err(text)?),
-        )];
-        for &n in config
+        // The table measured above and the model's evaluations, each through its unit of
+        // the evaluator registry, as `render` builds them.
+        let lookup = Evaluation::Table {
+            layout: table.layout,
+            resolution: table.resolution,
+        };
+        let paper = config
             .paper_samples
             .iter()
             .filter(|&&n| n <= super::GPU_PAPER_MAX_SAMPLES)
-        {
-            brdfs.push((
-                ("paper", Some(n), None),
-                Box::new(GpuDirect::new(context, fabric, n).map_err(text)?),
-            ));
-        }
-        for &nodes in &config.gpu_resonant_nodes {
-            brdfs.push((
-                ("resonant", None, Some(nodes)),
-                Box::new(GpuResonant::new(context, fabric, nodes).map_err(text)?),
-            ));
+            .map(|&samples| Evaluation::Paper { samples });
+        let resonant = config
+            .gpu_resonant_nodes
+            .iter()
+            .map(|&nodes| Evaluation::Resonant { nodes });
+        let mut brdfs = Vec::new();
+        for evaluation in std::iter::once(lookup).chain(paper).chain(resonant) {
+            let prepared: Box<dyn FabricEvaluator> = match evaluation {
+                Evaluation::Table { .. } => Box::new(TableEvaluation {
+                    table: table.clone(),
+                }),
+                model => crate::evaluator::parse(&model.spelling())
+                    .and_then(|e| e.prepare(fabric, &context_files))
+                    .map_err(|e| e.to_string())?,
+            };
+            let brdf = prepared
+                .gpu(context, GpuOptions::default())
+                .map_err(|e| e.to_string())?;
+            brdfs.push((evaluation, brdf));
         }
         let mut reference: Option<(LinearImage, f64)> = None;
         let mut points = Vec::new();
-        for ((shader, samples, nodes), brdf) in &brdfs {
+        for (evaluation, brdf) in &brdfs {
             let renderer = match &mut headless {
                 Some(h) => {
                     h.renderer.set_brdf(context, brdf.as_ref()).map_err(text)?;
@@ -226,9 +236,7 @@ fn measure_on(
             let error = image_error(&output.linear, reference, settings.exposure)
                 .map_err(|e| e.to_string())?;
             let point = GpuPoint {
-                shader: shader.to_string(),
-                samples: *samples,
-                nodes: *nodes,
+                evaluation: *evaluation,
                 ms_per_frame: output.timing.median_ms(),
                 samples_ms: output.timing.frame_ms.clone(),
                 image_relative_l2: error.relative_l2,
@@ -246,7 +254,6 @@ fn measure_on(
             reference.map_or((0, 0.0), |(image, seconds)| (image.coverage(), seconds));
         fabrics.push(GpuFabric {
             name: name.clone(),
-            table: format!("{} {}", table.layout, table.resolution),
             covered_pixels,
             reference_seconds,
             points,

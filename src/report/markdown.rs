@@ -1,6 +1,8 @@
 //! REPORT.md: the report's figures as Markdown tables, with the plots and the method.
 
-use super::{FabricReport, Report, ResonantPoint, TablePoint, pick, plots, summary, worst};
+use super::EvaluationsPerLight;
+use super::{Evaluation, FabricReport, Point, Report, pick, plots, summary};
+use crate::model::ResonantNodes;
 use crate::table::Layout;
 use std::fmt::Write;
 
@@ -52,6 +54,15 @@ pub(super) fn size(bytes: usize) -> String {
 /// A table as the report names it: "thread_frame 48".
 pub(super) fn table_name(layout: Layout, resolution: u32) -> String {
     format!("{layout} {resolution}")
+}
+
+/// A paper-mode point as the comparisons name it: "N = 32" (any other evaluation by its
+/// name).
+pub(super) fn paper_n(evaluation: Evaluation) -> String {
+    match evaluation {
+        Evaluation::Paper { samples } => format!("N = {samples}"),
+        other => other.to_string(),
+    }
 }
 
 /// A ratio as "12×" or "1.25×"; "–" when missing.
@@ -150,14 +161,17 @@ fn tables_section(report: &Report, md: &mut String) {
         "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for f in &report.fabrics {
-        for t in &f.tables {
+        for t in f.tables() {
+            let Evaluation::Table { layout, resolution } = t.evaluation else {
+                continue;
+            };
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
                 f.name,
-                t.layout,
-                t.resolution,
-                size(t.bytes),
+                layout,
+                resolution,
+                size(t.bytes()),
                 pct(t.error.uniform.relative_rms),
                 pct(t.error.uniform_above_1deg.relative_rms),
                 pct(t.error.uniform_above_3deg.relative_rms),
@@ -165,8 +179,8 @@ fn tables_section(report: &Report, md: &mut String) {
                 pct(t.error.highlight.relative_rms),
                 pct(t.error.highlight_above_1deg.relative_rms),
                 pct(t.error.highlight_above_3deg.relative_rms),
-                num(t.lookup.ns_per_eval),
-                t.bake.seconds
+                num(t.cost()),
+                t.bake.as_ref().map_or(f64::NAN, |b| b.seconds)
             );
         }
     }
@@ -179,26 +193,25 @@ fn tables_section(report: &Report, md: &mut String) {
          entry that fits.\n"
     );
     for f in &report.fabrics {
-        let mut front: Vec<&TablePoint> = f
-            .tables
-            .iter()
+        let mut front: Vec<&Point> = f
+            .tables()
             .filter(|t| {
-                !f.tables.iter().any(|o| {
-                    o.bytes <= t.bytes
-                        && worst(&o.error) <= worst(&t.error)
-                        && (o.bytes < t.bytes || worst(&o.error) < worst(&t.error))
+                !f.tables().any(|o| {
+                    o.bytes() <= t.bytes()
+                        && o.worst_error() <= t.worst_error()
+                        && (o.bytes() < t.bytes() || o.worst_error() < t.worst_error())
                 })
             })
             .collect();
-        front.sort_by_key(|t| t.bytes);
+        front.sort_by_key(|t| t.bytes());
         let entries: Vec<String> = front
             .iter()
             .map(|t| {
                 format!(
                     "{} ({}, {})",
-                    table_name(t.layout, t.resolution),
-                    size(t.bytes),
-                    pct(worst(&t.error))
+                    t.evaluation,
+                    size(t.bytes()),
+                    pct(t.worst_error())
                 )
             })
             .collect();
@@ -228,17 +241,17 @@ fn paper_section(report: &Report, md: &mut String) {
             f.name,
             num(f.direct.ns_per_eval)
         );
-        for p in &f.paper {
+        for p in f.paper() {
             let _ = writeln!(
                 md,
-                "| {} | paper N = {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} |",
                 f.name,
-                p.samples,
+                p.evaluation,
                 pct(p.error.uniform.relative_rms),
                 pct(p.error.highlight.relative_rms),
                 pct(p.error.uniform_above_15deg.relative_rms),
-                num(p.timing.ns_per_eval),
-                ratio(Some(f.direct.ns_per_eval / p.timing.ns_per_eval))
+                num(p.cost()),
+                ratio(Some(f.direct.ns_per_eval / p.cost()))
             );
         }
     }
@@ -247,17 +260,19 @@ fn paper_section(report: &Report, md: &mut String) {
 
 /// The resonant point a fabric's comparison with paper mode is quoted for: the default node
 /// counts when measured, else the most accurate point.
-fn headline_resonant(f: &FabricReport) -> Option<&ResonantPoint> {
-    f.resonant.iter().find(|r| r.default).or_else(|| {
-        f.resonant
-            .iter()
-            .min_by(|a, b| worst(&a.error).total_cmp(&worst(&b.error)))
+fn headline_resonant(f: &FabricReport) -> Option<&Point> {
+    let default = Evaluation::Resonant {
+        nodes: ResonantNodes::DEFAULT,
+    };
+    f.resonant().find(|r| r.evaluation == default).or_else(|| {
+        f.resonant()
+            .min_by(|a, b| a.worst_error().total_cmp(&b.worst_error()))
     })
 }
 
 fn resonant_section(report: &Report, md: &mut String) {
     let _ = writeln!(md, "## Resonant quadrature\n");
-    if report.fabrics.iter().all(|f| f.resonant.is_empty()) {
+    if report.fabrics.iter().all(|f| f.resonant().next().is_none()) {
         let _ = writeln!(md, "Not measured in this run.\n");
         return;
     }
@@ -271,7 +286,7 @@ fn resonant_section(report: &Report, md: &mut String) {
          *Paper at equal error*: the cheapest paper-mode N at least as accurate as the point; \
          *resonant / paper*: the point's cost over that N's (below 1, the resonant quadrature \
          is cheaper at equal error).\n",
-        crate::model::ResonantNodes::DEFAULT
+        ResonantNodes::DEFAULT
     );
     let _ = writeln!(
         md,
@@ -281,30 +296,43 @@ fn resonant_section(report: &Report, md: &mut String) {
     );
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|---:|---|---:|");
     for f in &report.fabrics {
-        for r in &f.resonant {
+        for r in f.resonant() {
+            let Evaluation::Resonant { nodes } = r.evaluation else {
+                continue;
+            };
+            let per_light = r.evaluations_per_light.unwrap_or(EvaluationsPerLight {
+                uniform: f64::NAN,
+                highlight: f64::NAN,
+                max: 0,
+            });
+            let paper = r.vs_paper.as_ref().and_then(|c| c.equal_error.as_ref());
             let _ = writeln!(
                 md,
                 "| {} | {}{} | {} | {} | {} | {} | {} | {:.1} | {:.1} | {} | {} |",
                 f.name,
-                r.label,
-                if r.default { " (default)" } else { "" },
+                nodes,
+                if nodes == ResonantNodes::DEFAULT {
+                    " (default)"
+                } else {
+                    ""
+                },
                 pct(r.error.uniform.relative_rms),
                 pct(r.error.highlight.relative_rms),
                 pct(r.error.uniform_above_15deg.relative_rms),
-                num(r.timing.ns_per_eval),
-                ratio(Some(f.direct.ns_per_eval / r.timing.ns_per_eval)),
-                r.evaluations_per_light.uniform,
-                r.evaluations_per_light.highlight,
-                r.paper_equal_error.as_ref().map_or_else(
+                num(r.cost()),
+                ratio(Some(f.direct.ns_per_eval / r.cost())),
+                per_light.uniform,
+                per_light.highlight,
+                paper.map_or_else(
                     || "none up to the largest N".to_string(),
                     |p| format!(
-                        "N = {} ({}, {} ns)",
-                        p.samples,
+                        "{} ({}, {} ns)",
+                        paper_n(p.evaluation),
                         pct(p.error),
                         num(p.ns_per_eval)
                     )
                 ),
-                ratio(r.cost_ratio_to_paper),
+                ratio(paper.map(|p| r.cost() / p.ns_per_eval)),
             );
         }
     }
@@ -320,40 +348,43 @@ fn resonant_section(report: &Report, md: &mut String) {
             continue;
         };
         let head = format!(
-            "- {}: resonant {} ({}, {} ns)",
+            "- {}: {} ({}, {} ns)",
             f.name,
-            r.label,
-            pct(worst(&r.error)),
-            num(r.timing.ns_per_eval)
+            r.evaluation,
+            pct(r.worst_error()),
+            num(r.cost())
         );
-        let _ = match (&r.paper_equal_error, r.cost_ratio_to_paper) {
-            (Some(p), Some(c)) => writeln!(
-                md,
-                "{head} costs {} of paper mode at equal error, N = {} ({}, {} ns){}.",
-                ratio(Some(c)),
-                p.samples,
-                pct(p.error),
-                num(p.ns_per_eval),
-                if c < 1.0 {
-                    format!(": {} faster", ratio(Some(1.0 / c)))
-                } else {
-                    String::new()
-                }
-            ),
-            _ => {
+        let paper = r.vs_paper.as_ref().and_then(|c| c.equal_error.as_ref());
+        let _ = match paper {
+            Some(p) => {
+                let c = r.cost() / p.ns_per_eval;
+                writeln!(
+                    md,
+                    "{head} costs {} of paper mode at equal error, {} ({}, {} ns){}.",
+                    ratio(Some(c)),
+                    paper_n(p.evaluation),
+                    pct(p.error),
+                    num(p.ns_per_eval),
+                    if c < 1.0 {
+                        format!(": {} faster", ratio(Some(1.0 / c)))
+                    } else {
+                        String::new()
+                    }
+                )
+            }
+            None => {
                 let best = f
-                    .paper
-                    .iter()
-                    .min_by(|a, b| worst(&a.error).total_cmp(&worst(&b.error)));
+                    .paper()
+                    .min_by(|a, b| a.worst_error().total_cmp(&b.worst_error()));
                 writeln!(
                     md,
                     "{head}: no paper-mode N measured is as accurate{}, so there is no cost \
                      ratio at equal error.",
                     best.map_or(String::new(), |p| format!(
-                        " (the most accurate, N = {}, is at {}, {} ns)",
-                        p.samples,
-                        pct(worst(&p.error)),
-                        num(p.timing.ns_per_eval)
+                        " (the most accurate, {}, is at {}, {} ns)",
+                        paper_n(p.evaluation),
+                        pct(p.worst_error()),
+                        num(p.cost())
                     ))
                 )
             }
@@ -427,18 +458,21 @@ fn gpu_section(report: &Report, md: &mut String) {
     );
     let _ = writeln!(md, "|---|---:|---:|---|---:|---|---:|---|");
     for f in &g.fabrics {
-        let Some(lookup) = f.points.iter().find(|p| p.shader == "lookup") else {
+        let Some(lookup) = f.lookup() else {
             continue;
         };
-        let paper: Vec<&super::gpu::GpuPoint> =
-            f.points.iter().filter(|p| p.samples.is_some()).collect();
+        let paper: Vec<&super::gpu::GpuPoint> = f
+            .points
+            .iter()
+            .filter(|p| p.evaluation.is_paper())
+            .collect();
         let points: Vec<(f64, f64)> = paper
             .iter()
             .map(|p| (p.ms_per_frame, p.image_relative_l2))
             .collect();
         let (error, cost) = (lookup.image_relative_l2, lookup.ms_per_frame);
-        let (equal_error, equal_cost, dominated) = super::compare_with_paper(error, cost, &points);
-        let n = |i: usize| paper[i].samples.unwrap_or(0);
+        let (equal_error, equal_cost, dominated) = super::dominance(error, cost, &points);
+        let n = |i: usize| paper_n(paper[i].evaluation);
         let _ = writeln!(
             md,
             "| {} | {:.2} | {} | {} | {} | {} | {} | {} |",
@@ -446,13 +480,13 @@ fn gpu_section(report: &Report, md: &mut String) {
             cost,
             pct(error),
             equal_error.map_or("none up to the largest N".into(), |i| format!(
-                "N = {} ({:.2} ms)",
+                "{} ({:.2} ms)",
                 n(i),
                 points[i].0
             )),
             ratio(equal_error.map(|i| points[i].0 / cost)),
             equal_cost.map_or("none this cheap".into(), |i| format!(
-                "N = {} ({})",
+                "{} ({})",
                 n(i),
                 pct(points[i].1)
             )),
@@ -468,11 +502,13 @@ fn gpu_section(report: &Report, md: &mut String) {
          |---|---|---:|---:|---:|---:|"
     );
     for f in &g.fabrics {
-        let Some(lookup) = f.points.iter().find(|p| p.shader == "lookup") else {
+        let Some(lookup) = f.lookup() else {
             continue;
         };
         for p in &f.points {
-            let Some(nodes) = p.nodes else { continue };
+            let Evaluation::Resonant { nodes } = p.evaluation else {
+                continue;
+            };
             let _ = writeln!(
                 md,
                 "| {} | {nodes} | {:.2} | {:.1}× | {} | {} |",
@@ -493,10 +529,9 @@ fn gpu_section(report: &Report, md: &mut String) {
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|");
     for f in &g.fabrics {
         for p in &f.points {
-            let shader = match (p.samples, p.nodes) {
-                (Some(n), _) => format!("paper N = {n}"),
-                (None, Some(nodes)) => format!("resonant {nodes}"),
-                (None, None) => format!("lookup ({})", f.table),
+            let shader = match p.evaluation {
+                table @ Evaluation::Table { .. } => format!("lookup ({table})"),
+                model => model.to_string(),
             };
             let _ = writeln!(
                 md,

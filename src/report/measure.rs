@@ -1,12 +1,11 @@
 //! The measurements of `clothbake report`: every fabric's errors, CPU timings, bakes and
 //! speed-up, then the GPU section, the plots, REPORT.md and report.json.
 
-use super::files::{JSON_FILE_NAME, write_file};
+use super::files::{JSON_FILE_NAME, json, write_file};
 use super::timing::{self, BakeTiming, pair_by_pair, time_interleaved, time_repeated};
 use super::{
-    EvaluationsPerLight, FabricReport, Machine, PaperMatch, PaperPoint, Report, ReportConfig,
-    ReportError, ResonantPoint, Speedup, TIMING_SEED, TablePoint, compare_with_paper, gpu,
-    markdown, plots, verdict, worst,
+    Evaluation, EvaluationsPerLight, FabricReport, Machine, Point, Report, ReportConfig,
+    ReportError, Speedup, TIMING_SEED, gpu, markdown, plots,
 };
 use crate::bake::bake;
 use crate::measure::accuracy::{Reference, TableError, lookup_batch_sum, lookup_f32};
@@ -163,74 +162,51 @@ fn measure_fabric(
     )
     .into_iter();
     let direct = timings.next().expect("one timing per evaluation");
-    let paper: Vec<PaperPoint> = papers
+    let point = |evaluation, error: &TableError, timing| Point {
+        evaluation,
+        error: *error,
+        timing,
+        bytes: None,
+        bake: None,
+        evaluations_per_light: None,
+        vs_paper: None,
+        vs_best: None,
+    };
+    let paper = papers
         .iter()
+        .map(|(samples, _, error)| (Evaluation::Paper { samples: *samples }, error));
+    let mut points: Vec<Point> = paper
         .zip(timings.by_ref())
-        .map(|((n, _, error), timing)| PaperPoint {
-            samples: *n,
-            error: *error,
-            timing,
-        })
+        .map(|((evaluation, error), timing)| point(evaluation, error, timing))
         .collect();
-    let paper_points: Vec<(f64, f64)> = paper
-        .iter()
-        .map(|p| (p.timing.ns_per_eval, worst(&p.error)))
-        .collect();
-    let resonant: Vec<ResonantPoint> = resonants
-        .iter()
-        .zip(timings.by_ref())
-        .map(|((nodes, _, error, evaluations), timing)| {
-            let (equal_error, _, _) =
-                compare_with_paper(worst(error), timing.ns_per_eval, &paper_points);
-            let paper_equal_error = equal_error.map(|i| PaperMatch {
-                samples: paper[i].samples,
-                ns_per_eval: paper_points[i].0,
-                error: paper_points[i].1,
-            });
-            ResonantPoint {
-                nodes: *nodes,
-                label: nodes.to_string(),
-                default: *nodes == ResonantNodes::DEFAULT,
-                error: *error,
-                cost_ratio_to_paper: paper_equal_error
-                    .as_ref()
-                    .map(|p| timing.ns_per_eval / p.ns_per_eval),
-                paper_equal_error,
-                evaluations_per_light: *evaluations,
-                timing,
-            }
-        })
-        .collect();
-    let tables: Vec<TablePoint> = tables
-        .iter()
-        .zip(timings)
-        .map(|((table, error, bake), lookup)| TablePoint {
-            layout: table.layout,
-            resolution: table.resolution,
-            bytes: table.byte_size(),
-            error: *error,
-            lookup,
-            bake: bake.clone(),
-        })
-        .collect();
-    let cost = |label: String, ns: f64| format!("{label} {ns:.0}");
-    let costs: Vec<String> = std::iter::once(cost("direct".into(), direct.ns_per_eval))
+    points.extend(resonants.iter().zip(timings.by_ref()).map(
+        |((nodes, _, error, evaluations), timing)| Point {
+            evaluations_per_light: Some(*evaluations),
+            ..point(Evaluation::Resonant { nodes: *nodes }, error, timing)
+        },
+    ));
+    points.extend(
+        tables
+            .iter()
+            .zip(timings)
+            .map(|((table, error, bake), lookup)| {
+                let evaluation = Evaluation::Table {
+                    layout: table.layout,
+                    resolution: table.resolution,
+                };
+                Point {
+                    bytes: Some(table.byte_size()),
+                    bake: Some(bake.clone()),
+                    ..point(evaluation, error, lookup)
+                }
+            }),
+    );
+    let costs: Vec<String> = std::iter::once(format!("direct {:.0}", direct.ns_per_eval))
         .chain(
-            paper
+            points
                 .iter()
-                .map(|p| cost(format!("N={}", p.samples), p.timing.ns_per_eval)),
+                .map(|p| format!("{} {:.0}", p.evaluation, p.cost())),
         )
-        .chain(
-            resonant
-                .iter()
-                .map(|r| cost(format!("resonant {}", r.label), r.timing.ns_per_eval)),
-        )
-        .chain(tables.iter().map(|t| {
-            cost(
-                format!("{} {}", t.layout, t.resolution),
-                t.lookup.ns_per_eval,
-            )
-        }))
         .collect();
     progress(&format!("{name}: ns/eval: {}", costs.join(", ")));
 
@@ -248,20 +224,15 @@ fn measure_fabric(
             ", TEXELS DIFFER"
         }
     ));
-    let verdicts = tables
-        .iter()
-        .map(|t| verdict(t, &paper, &resonant))
-        .collect();
-    Ok(FabricReport {
+    let mut report = FabricReport {
         name: name.clone(),
         direct,
-        paper,
-        resonant,
-        tables,
+        points,
         speedup,
-        verdicts,
         seconds: started.elapsed().as_secs_f64(),
-    })
+    };
+    report.judge();
+    Ok(report)
 }
 
 /// Bakes the speed-up table alternately on one and two threads.
@@ -353,7 +324,7 @@ pub fn run(
         .map(ResonantNodes::validate)
         .find(Result::is_err)
     {
-        return Err(ReportError::Config(e));
+        return Err(ReportError::Config(e.to_string()));
     }
     for (layout, resolutions) in &config.resolutions {
         if let Some(&r) = resolutions
@@ -422,8 +393,6 @@ pub fn run(
     report.files.push(markdown::FILE_NAME.to_string());
     report.files.push(JSON_FILE_NAME.to_string());
     write_file(out, markdown::FILE_NAME, &markdown::render(&report))?;
-    let json = serde_json::to_string_pretty(&report)
-        .map_err(|e| ReportError::Config(format!("cannot serialise the report: {e}")))?;
-    write_file(out, JSON_FILE_NAME, &json)?;
+    write_file(out, JSON_FILE_NAME, &json(&report)?)?;
     Ok(report)
 }

@@ -15,10 +15,11 @@
 //!   threads' tangent samples, averaged over the uniform and the highlight pairs) and its
 //!   cost against paper mode's at equal error;
 //! - the speed-up of a bake from one to two threads, and whether both give the same texels;
-//! - a verdict per table: is it faster than paper mode at equal error and more accurate at
-//!   equal cost (equivalently, is no paper-mode point at least as fast and as accurate)?
-//!   And the same against every evaluation of the model measured (paper mode and the
-//!   resonant quadrature), so that a table is judged against the best of them.
+//! - one comparison rule for every point ([`Comparison`], [`dominance`]): every point against
+//!   paper mode (is it faster at equal error and more accurate at equal cost, equivalently
+//!   is no paper-mode point at least as fast and as accurate?), and every table against
+//!   every evaluation of the model measured (paper mode and the resonant quadrature), so
+//!   that a table is judged against the best of them.
 //!
 //! The GPU section ([`gpu`]) records the adapter and what could be measured on it; without
 //! an adapter it says so and measures nothing.
@@ -193,13 +194,52 @@ fn report_resolutions(quick: bool) -> Vec<(Layout, Vec<u32>)> {
         .collect()
 }
 
-/// Errors and cost of paper mode at one N.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct PaperPoint {
-    pub samples: u32,
-    #[serde(deserialize_with = "files::table_error")]
-    pub error: TableError,
-    pub timing: EvalTiming,
+/// What a point of the report evaluates F by: the model itself at one setting of an
+/// integration rule, or a baked table looked up. The CPU points, the GPU points, the
+/// comparisons, the picks and the plots all name what they measured by this one type.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "family", rename_all = "snake_case")]
+pub enum Evaluation {
+    /// Paper mode at N samples per thread.
+    Paper { samples: u32 },
+    /// The resonant quadrature at its node counts.
+    Resonant { nodes: ResonantNodes },
+    /// A table of this layout and resolution.
+    Table { layout: Layout, resolution: u32 },
+}
+
+impl Evaluation {
+    /// Whether this evaluates the model itself (no bake): the points a table is judged
+    /// against.
+    pub fn is_model(&self) -> bool {
+        !matches!(self, Evaluation::Table { .. })
+    }
+
+    /// Whether this is paper mode, the baseline every other point is compared with.
+    pub fn is_paper(&self) -> bool {
+        matches!(self, Evaluation::Paper { .. })
+    }
+
+    /// The spelling of its evaluator on every command (`paper:32`, `resonant:6/5/2`,
+    /// `table`); a table's file is the caller's to give.
+    pub fn spelling(&self) -> String {
+        match self {
+            Evaluation::Paper { samples } => format!("paper:{samples}"),
+            Evaluation::Resonant { nodes } => format!("resonant:{nodes}"),
+            Evaluation::Table { .. } => "table".into(),
+        }
+    }
+}
+
+/// How REPORT.md names an evaluation: "paper N = 32", "resonant 6/5/2", "thread_frame 48".
+impl std::fmt::Display for Evaluation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Evaluation::Paper { samples } => write!(f, "paper N = {samples}"),
+            Evaluation::Resonant { nodes } => write!(f, "resonant {nodes}"),
+            Evaluation::Table { layout, resolution } => write!(f, "{layout} {resolution}"),
+        }
+    }
 }
 
 /// Mean kernel evaluations per light of the resonant quadrature: the tangent samples whose
@@ -212,42 +252,103 @@ pub struct EvaluationsPerLight {
     pub max: usize,
 }
 
-/// Errors and cost of the resonant quadrature at one set of node counts.
+/// One evaluation measured on the CPU: its errors against the direct evaluation, its cost,
+/// what a table costs in memory and bake time, and how it compares with the others.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct ResonantPoint {
-    pub nodes: ResonantNodes,
-    /// `nodes` as the command line spells them, "surface/volume/base".
-    pub label: String,
-    /// Whether these are [`ResonantNodes::DEFAULT`].
-    pub default: bool,
+pub struct Point {
+    pub evaluation: Evaluation,
     #[serde(deserialize_with = "files::table_error")]
     pub error: TableError,
+    /// One thread over the timing pairs: `Patch::eval` pair by pair for the model, and
+    /// `Table::lookup_batch` for a table (the fast CPU path, eight pairs' coordinates at a
+    /// time, RGB with the albedos applied, directions converted from f64 to f32 inside the
+    /// timed call).
     pub timing: EvalTiming,
-    /// Kernel evaluations per light on the error sets (uniform and highlight pairs).
-    pub evaluations_per_light: EvaluationsPerLight,
-    /// The cheapest paper-mode point with an error at most this point's (None: no measured
-    /// N is that accurate).
-    pub paper_equal_error: Option<PaperMatch>,
-    /// This point's cost over that paper-mode point's: below 1, the resonant quadrature is
-    /// cheaper at equal error.
-    pub cost_ratio_to_paper: Option<f64>,
+    /// A table's bytes of f16 texel data.
+    #[serde(default)]
+    pub bytes: Option<usize>,
+    /// A table's bake on all worker threads of the report's pool.
+    #[serde(default)]
+    pub bake: Option<BakeTiming>,
+    /// The resonant quadrature's kernel evaluations per light on the error sets.
+    #[serde(default)]
+    pub evaluations_per_light: Option<EvaluationsPerLight>,
+    /// Against paper mode at every N measured (every point but paper mode's own).
+    /// Derived from the figures above by [`FabricReport::judge`], also when read back.
+    #[serde(default, skip_deserializing)]
+    pub vs_paper: Option<Comparison>,
+    /// Against every evaluation of the model measured, paper mode and resonant (the
+    /// tables). Derived as `vs_paper` is.
+    #[serde(default, skip_deserializing)]
+    pub vs_best: Option<Comparison>,
 }
 
-/// One baked table: its size, errors, CPU lookup cost and bake time.
+impl Point {
+    /// The worse of the uniform and highlight relative RMS errors: the error every
+    /// comparison and pick uses.
+    pub fn worst_error(&self) -> f64 {
+        worst(&self.error)
+    }
+
+    /// CPU nanoseconds per evaluation.
+    pub fn cost(&self) -> f64 {
+        self.timing.ns_per_eval
+    }
+
+    /// A table's bytes of texel data; 0 for an evaluation of the model.
+    pub fn bytes(&self) -> usize {
+        self.bytes.unwrap_or(0)
+    }
+}
+
+/// A point another point is compared with.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct TablePoint {
-    pub layout: Layout,
-    pub resolution: u32,
-    /// Bytes of f16 texel data.
-    pub bytes: usize,
-    #[serde(deserialize_with = "files::table_error")]
-    pub error: TableError,
-    /// `Table::lookup_batch` (the fast CPU path, eight pairs' coordinates at a time, RGB
-    /// with the albedos applied) on one thread over the timing pairs, directions converted
-    /// from f64 to f32 inside the timed call.
-    pub lookup: EvalTiming,
-    /// The bake on all worker threads of the report's pool.
-    pub bake: BakeTiming,
+pub struct Match {
+    pub evaluation: Evaluation,
+    pub ns_per_eval: f64,
+    pub error: f64,
+}
+
+/// How a point compares with a set of others, on error (the worse of uniform and
+/// highlight) and CPU cost: the one dominance rule of the report ([`dominance`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Comparison {
+    /// The cheapest other point with an error at most this point's (None: none is that
+    /// accurate).
+    pub equal_error: Option<Match>,
+    /// Its cost over this point's: above 1, this point is faster at equal error.
+    pub speed_ratio: Option<f64>,
+    /// The most accurate other point costing at most this point's cost (None: every other
+    /// point costs more).
+    pub equal_cost: Option<Match>,
+    /// Its error over this point's: above 1, this point is more accurate at equal cost.
+    pub error_ratio: Option<f64>,
+    /// True when no other point is both at least as accurate and at least as cheap. Then
+    /// (by the choice of the two points above) this point is faster at equal error and more
+    /// accurate at equal cost; otherwise one of them dominates it.
+    pub wins: bool,
+}
+
+impl Comparison {
+    /// `point` against `others`.
+    pub fn of(point: &Point, others: &[&Point]) -> Self {
+        let (error, cost) = (point.worst_error(), point.cost());
+        let figures: Vec<(f64, f64)> = others.iter().map(|o| (o.cost(), o.worst_error())).collect();
+        let (equal_error, equal_cost, dominated) = dominance(error, cost, &figures);
+        let at = |i: usize| Match {
+            evaluation: others[i].evaluation,
+            ns_per_eval: figures[i].0,
+            error: figures[i].1,
+        };
+        let (equal_error, equal_cost) = (equal_error.map(at), equal_cost.map(at));
+        Self {
+            speed_ratio: equal_error.as_ref().map(|m| m.ns_per_eval / cost),
+            error_ratio: equal_cost.as_ref().map(|m| m.error / error),
+            equal_error,
+            equal_cost,
+            wins: !dominated,
+        }
+    }
 }
 
 /// The speed-up of a bake from one to two threads.
@@ -263,80 +364,63 @@ pub struct Speedup {
     pub identical: bool,
 }
 
-/// A paper-mode point a table is compared with.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct PaperMatch {
-    pub samples: u32,
-    pub ns_per_eval: f64,
-    pub error: f64,
-}
-
-/// How a table compares with paper mode, on the worse of its uniform and highlight
-/// relative RMS errors ("error") and its CPU cost per evaluation ("cost").
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Verdict {
-    pub layout: Layout,
-    pub resolution: u32,
-    pub error: f64,
-    pub ns_per_eval: f64,
-    /// The cheapest paper-mode point with an error at most the table's (None: no measured
-    /// N is that accurate).
-    pub equal_error: Option<PaperMatch>,
-    /// Its cost over the table's: above 1, the table is faster at equal error.
-    pub speed_ratio: Option<f64>,
-    /// The most accurate paper-mode point costing at most the table's cost (None: every
-    /// measured N costs more than the lookup).
-    pub equal_cost: Option<PaperMatch>,
-    /// Its error over the table's: above 1, the table is more accurate at equal cost.
-    pub error_ratio: Option<f64>,
-    /// True when no paper-mode point is both at least as accurate and at least as cheap.
-    /// Then (by the choice of the two points above) the table is faster at equal error and
-    /// more accurate at equal cost; otherwise paper mode dominates it.
-    pub table_wins: bool,
-    /// The same comparison against every evaluation of the model measured: paper mode at
-    /// each N and the resonant quadrature at each node count.
-    pub vs_best_evaluation: BestVerdict,
-}
-
-/// An evaluation of the model (paper mode or resonant) a table is compared with.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct EvaluationMatch {
-    /// "paper N = 32" or "resonant 6/5/2".
-    pub evaluation: String,
-    pub ns_per_eval: f64,
-    pub error: f64,
-}
-
-/// How a table compares with the best evaluation of the model (paper mode or resonant):
-/// the fields of [`Verdict`] over both families together.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct BestVerdict {
-    /// The cheapest evaluation with an error at most the table's.
-    pub equal_error: Option<EvaluationMatch>,
-    /// Its cost over the table's: above 1, the table is faster at equal error.
-    pub speed_ratio: Option<f64>,
-    /// The most accurate evaluation costing at most the table's cost.
-    pub equal_cost: Option<EvaluationMatch>,
-    /// Its error over the table's: above 1, the table is more accurate at equal cost.
-    pub error_ratio: Option<f64>,
-    /// True when no evaluation is both at least as accurate and at least as cheap.
-    pub table_wins: bool,
-}
-
 /// Everything measured for one fabric.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct FabricReport {
     pub name: String,
     /// The direct evaluation's cost (its error is 0 by definition).
     pub direct: EvalTiming,
-    pub paper: Vec<PaperPoint>,
-    /// The resonant quadrature at each node count of the configuration.
-    pub resonant: Vec<ResonantPoint>,
-    pub tables: Vec<TablePoint>,
+    /// Every evaluation measured: paper mode at each N, the resonant quadrature at each
+    /// node count, then every table, in the configuration's order.
+    pub points: Vec<Point>,
     pub speedup: Speedup,
-    pub verdicts: Vec<Verdict>,
     /// Wall-clock seconds this fabric's measurements took.
     pub seconds: f64,
+}
+
+impl FabricReport {
+    /// The points of paper mode.
+    pub fn paper(&self) -> impl Iterator<Item = &Point> {
+        self.points.iter().filter(|p| p.evaluation.is_paper())
+    }
+
+    /// The points of the resonant quadrature.
+    pub fn resonant(&self) -> impl Iterator<Item = &Point> {
+        self.points
+            .iter()
+            .filter(|p| matches!(p.evaluation, Evaluation::Resonant { .. }))
+    }
+
+    /// The tables.
+    pub fn tables(&self) -> impl Iterator<Item = &Point> {
+        self.points.iter().filter(|p| !p.evaluation.is_model())
+    }
+
+    /// Fills every point's comparisons from the figures: each point but paper mode's
+    /// against paper mode, and each table against every evaluation of the model.
+    pub fn judge(&mut self) {
+        let paper: Vec<&Point> = self.paper().collect();
+        let model: Vec<&Point> = self
+            .points
+            .iter()
+            .filter(|p| p.evaluation.is_model())
+            .collect();
+        let judged: Vec<(Option<Comparison>, Option<Comparison>)> = self
+            .points
+            .iter()
+            .map(|point| {
+                let e = point.evaluation;
+                (
+                    (!e.is_paper()).then(|| Comparison::of(point, &paper)),
+                    (!e.is_model()).then(|| Comparison::of(point, &model)),
+                )
+            })
+            .collect();
+        for (point, (vs_paper, vs_best)) in self.points.iter_mut().zip(judged) {
+            point.vs_paper = vs_paper;
+            point.vs_best = vs_best;
+        }
+    }
 }
 
 /// The machine the report ran on.
@@ -406,11 +490,11 @@ fn worst(error: &TableError) -> f64 {
     error.uniform.relative_rms.max(error.highlight.relative_rms)
 }
 
-/// Compares an estimate of `error` and `cost` with paper-mode points `(cost, error)`:
-/// the index of the cheapest point at most as erroneous, the index of the most accurate
-/// point at most as costly, and whether some point is both at most as costly and at most
-/// as erroneous (then paper mode dominates the estimate).
-pub fn compare_with_paper(
+/// The report's one dominance rule: compares a point of error `error` and cost `cost` with
+/// points `(cost, error)`. Returns the index of the cheapest point at most as erroneous, the
+/// index of the most accurate point at most as costly, and whether some point is both at
+/// most as costly and at most as erroneous (then it dominates).
+pub fn dominance(
     error: f64,
     cost: f64,
     points: &[(f64, f64)],
@@ -425,92 +509,21 @@ pub fn compare_with_paper(
     (equal_error, equal_cost, dominated)
 }
 
-/// Compares one table with the paper-mode points and with every evaluation, paper mode and
-/// resonant (see [`Verdict`]).
-pub fn verdict(table: &TablePoint, paper: &[PaperPoint], resonant: &[ResonantPoint]) -> Verdict {
-    let error = worst(&table.error);
-    let cost = table.lookup.ns_per_eval;
-    let points: Vec<(f64, f64)> = paper
-        .iter()
-        .map(|p| (p.timing.ns_per_eval, worst(&p.error)))
-        .collect();
-    let (equal_error, equal_cost, dominated) = compare_with_paper(error, cost, &points);
-    let point = |i: usize| PaperMatch {
-        samples: paper[i].samples,
-        ns_per_eval: points[i].0,
-        error: points[i].1,
-    };
-    let equal_error = equal_error.map(point);
-    let equal_cost = equal_cost.map(point);
-    let evaluations: Vec<EvaluationMatch> = paper
-        .iter()
-        .zip(&points)
-        .map(|(p, &(ns_per_eval, error))| EvaluationMatch {
-            evaluation: format!("paper N = {}", p.samples),
-            ns_per_eval,
-            error,
-        })
-        .chain(resonant.iter().map(|r| EvaluationMatch {
-            evaluation: format!("resonant {}", r.label),
-            ns_per_eval: r.timing.ns_per_eval,
-            error: worst(&r.error),
-        }))
-        .collect();
-    let all: Vec<(f64, f64)> = evaluations
-        .iter()
-        .map(|e| (e.ns_per_eval, e.error))
-        .collect();
-    let (best_error, best_cost, best_dominated) = compare_with_paper(error, cost, &all);
-    let best_error = best_error.map(|i| evaluations[i].clone());
-    let best_cost = best_cost.map(|i| evaluations[i].clone());
-    let vs_best_evaluation = BestVerdict {
-        speed_ratio: best_error.as_ref().map(|e| e.ns_per_eval / cost),
-        error_ratio: best_cost.as_ref().map(|e| e.error / error),
-        equal_error: best_error,
-        equal_cost: best_cost,
-        table_wins: !best_dominated,
-    };
-    Verdict {
-        layout: table.layout,
-        resolution: table.resolution,
-        error,
-        ns_per_eval: cost,
-        speed_ratio: equal_error.as_ref().map(|p| p.ns_per_eval / cost),
-        error_ratio: equal_cost.as_ref().map(|p| p.error / error),
-        equal_error,
-        equal_cost,
-        table_wins: !dominated,
-        vs_best_evaluation,
-    }
-}
-
 #[cfg(test)]
 mod tests {
-    use super::compare_with_paper;
+    use super::dominance;
 
     #[test]
-    fn comparison_with_paper_mode_points() {
-        // (cost, error) of three paper-mode points, cheaper ones less accurate.
+    fn dominance_of_three_points() {
+        // (cost, error) of three points, cheaper ones less accurate.
         let points = [(100.0, 0.5), (200.0, 0.1), (400.0, 0.01)];
         // More accurate than all but the dearest, cheaper than all but the cheapest: wins.
-        assert_eq!(
-            compare_with_paper(0.05, 150.0, &points),
-            (Some(2), Some(0), false)
-        );
-        // Point 1 is cheaper and more accurate: paper mode dominates.
-        assert_eq!(
-            compare_with_paper(0.2, 250.0, &points),
-            (Some(1), Some(1), true)
-        );
+        assert_eq!(dominance(0.05, 150.0, &points), (Some(2), Some(0), false));
+        // Point 1 is cheaper and more accurate: it dominates.
+        assert_eq!(dominance(0.2, 250.0, &points), (Some(1), Some(1), true));
         // Cheaper than every point and more accurate than none.
-        assert_eq!(
-            compare_with_paper(0.9, 50.0, &points),
-            (Some(0), None, false)
-        );
+        assert_eq!(dominance(0.9, 50.0, &points), (Some(0), None, false));
         // More accurate than every point.
-        assert_eq!(
-            compare_with_paper(0.001, 500.0, &points),
-            (None, Some(2), false)
-        );
+        assert_eq!(dominance(0.001, 500.0, &points), (None, Some(2), false));
     }
 }

@@ -5,10 +5,8 @@
 //! points within the need's budget (the constants below), so a new run, or a re-render of
 //! report.json ([`super::rerender`]), rewrites it with the figures it rests on.
 
-use super::markdown::{num, pct, size, table_name};
-use super::{FabricReport, Report, plots, worst};
-use crate::model::ResonantNodes;
-use crate::table::Layout;
+use super::markdown::{num, pct, size};
+use super::{Evaluation, FabricReport, Report, plots};
 use std::fmt::{self, Write};
 
 /// The section's heading; its GitHub anchor is [`ANCHOR`].
@@ -148,32 +146,25 @@ fn budget(x: f64) -> String {
 /// A table or evaluation the section can pick, named as the rest of REPORT.md names it.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Choice {
-    /// A baked table on the CPU (`Table::lookup_batch`).
-    Table { layout: Layout, resolution: u32 },
-    /// Paper mode at N samples per thread on the CPU.
-    Paper { samples: u32 },
-    /// The resonant quadrature on the CPU, at its node counts "surface/volume/base".
-    Resonant { nodes: String },
     /// The direct evaluation on the CPU.
     Direct,
-    /// The GPU lookup shader on the named table ("thread_frame 48").
-    LookupShader { table: String },
-    /// The GPU paper-mode shader at N samples per thread.
-    PaperShader { samples: u32 },
-    /// The GPU resonant shader at its node counts.
-    ResonantShader { nodes: ResonantNodes },
+    /// A point measured on the CPU: a table looked up, or the model by paper mode or the
+    /// resonant quadrature.
+    Cpu(Evaluation),
+    /// A shader of the GPU section: the lookup of a table, or the model in the shader.
+    Gpu(Evaluation),
 }
 
 impl fmt::Display for Choice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Choice::Table { layout, resolution } => f.write_str(&table_name(*layout, *resolution)),
-            Choice::Paper { samples } => write!(f, "paper N = {samples}"),
-            Choice::Resonant { nodes } => write!(f, "resonant {nodes}"),
             Choice::Direct => f.write_str("direct"),
-            Choice::LookupShader { table } => write!(f, "lookup shader, {table}"),
-            Choice::PaperShader { samples } => write!(f, "paper-mode shader N = {samples}"),
-            Choice::ResonantShader { nodes } => write!(f, "resonant shader {nodes}"),
+            Choice::Cpu(evaluation) => write!(f, "{evaluation}"),
+            Choice::Gpu(table @ Evaluation::Table { .. }) => write!(f, "lookup shader, {table}"),
+            Choice::Gpu(Evaluation::Paper { samples }) => {
+                write!(f, "paper-mode shader N = {samples}")
+            }
+            Choice::Gpu(Evaluation::Resonant { nodes }) => write!(f, "resonant shader {nodes}"),
         }
     }
 }
@@ -224,34 +215,14 @@ impl Pick {
     }
 }
 
-/// Every CPU evaluation of `f` as a pick: direct, paper mode, resonant, then the tables.
+/// Every CPU evaluation of `f` as a pick: direct, then every point measured.
 fn cpu_points(f: &FabricReport) -> impl Iterator<Item = Pick> + '_ {
     let direct = Pick::cpu(Choice::Direct, 0.0, f.direct.ns_per_eval);
-    let paper = f.paper.iter().map(|p| {
-        let choice = Choice::Paper { samples: p.samples };
-        Pick::cpu(choice, worst(&p.error), p.timing.ns_per_eval)
+    let points = f.points.iter().map(|p| Pick {
+        bytes: p.bytes,
+        ..Pick::cpu(Choice::Cpu(p.evaluation), p.worst_error(), p.cost())
     });
-    let resonant = f.resonant.iter().map(|r| {
-        let choice = Choice::Resonant {
-            nodes: r.label.clone(),
-        };
-        Pick::cpu(choice, worst(&r.error), r.timing.ns_per_eval)
-    });
-    let tables = f.tables.iter().map(|t| Pick {
-        bytes: Some(t.bytes),
-        ..Pick::cpu(
-            Choice::Table {
-                layout: t.layout,
-                resolution: t.resolution,
-            },
-            worst(&t.error),
-            t.lookup.ns_per_eval,
-        )
-    });
-    std::iter::once(direct)
-        .chain(paper)
-        .chain(resonant)
-        .chain(tables)
+    std::iter::once(direct).chain(points)
 }
 
 /// The GPU points of the fabric named `name`, if the GPU section measured it.
@@ -262,21 +233,12 @@ fn gpu_points(report: &Report, name: &str) -> Option<Vec<Pick>> {
         .iter()
         .find(|f| f.name == name)
         .filter(|_| g.measured)?;
-    let points = f.points.iter().map(|p| {
-        let choice = match (p.samples, p.nodes) {
-            (Some(samples), _) => Choice::PaperShader { samples },
-            (None, Some(nodes)) => Choice::ResonantShader { nodes },
-            (None, None) => Choice::LookupShader {
-                table: f.table.clone(),
-            },
-        };
-        Pick {
-            choice,
-            error: p.image_relative_l2,
-            ns_per_eval: None,
-            ms_per_frame: Some(p.ms_per_frame),
-            bytes: None,
-        }
+    let points = f.points.iter().map(|p| Pick {
+        choice: Choice::Gpu(p.evaluation),
+        error: p.image_relative_l2,
+        ns_per_eval: None,
+        ms_per_frame: Some(p.ms_per_frame),
+        bytes: None,
     });
     Some(points.collect())
 }
@@ -297,7 +259,7 @@ pub fn pick(report: &Report, f: &FabricReport, need: Need) -> Option<Pick> {
             .min_by_key(|p| p.bytes),
         Need::FastestCpu => cpu_points(f).filter(within).min_by(by(ns)),
         Need::NoBake => cpu_points(f)
-            .filter(|p| matches!(p.choice, Choice::Paper { .. } | Choice::Resonant { .. }))
+            .filter(|p| matches!(&p.choice, Choice::Cpu(e) if e.is_model()))
             .filter(within)
             .min_by(by(ns)),
         Need::GroundTruth => cpu_points(f).find(|p| p.choice == Choice::Direct),

@@ -2,76 +2,83 @@
 //! error budget the cheapest table, paper-mode N and resonant node counts, and every table's
 //! verdict.
 
-use super::markdown::{num, pct, ratio, size, table_name};
-use super::{FabricReport, PaperPoint, Report, ResonantPoint, TablePoint, Verdict, worst};
+use super::markdown::{num, paper_n, pct, ratio, size};
+use super::{Comparison, Evaluation, FabricReport, Point, Report};
 use crate::table::Layout;
 use std::fmt::Write;
 
-fn verdict_row(fabric: &str, t: &TablePoint, v: &Verdict) -> String {
+/// A table's two comparisons, against paper mode and against every evaluation of the model.
+fn comparisons(t: &Point) -> (&Comparison, &Comparison) {
+    match (&t.vs_paper, &t.vs_best) {
+        (Some(paper), Some(best)) => (paper, best),
+        _ => unreachable!("FabricReport::judge compares every table with both sets"),
+    }
+}
+
+fn verdict_row(fabric: &str, t: &Point) -> String {
+    let (v, best) = comparisons(t);
     let equal_error = v.equal_error.as_ref().map_or_else(
         || "none up to the largest N".to_string(),
-        |p| format!("N = {} ({} ns)", p.samples, num(p.ns_per_eval)),
+        |p| format!("{} ({} ns)", paper_n(p.evaluation), num(p.ns_per_eval)),
     );
     let equal_cost = v.equal_cost.as_ref().map_or_else(
         || "none this cheap".to_string(),
-        |p| format!("N = {} ({})", p.samples, pct(p.error)),
+        |p| format!("{} ({})", paper_n(p.evaluation), pct(p.error)),
     );
-    let outcome = if v.table_wins {
-        "**table**"
-    } else {
-        "paper mode"
-    };
-    let best = &v.vs_best_evaluation;
+    let outcome = if v.wins { "**table**" } else { "paper mode" };
     let best_equal_error = best.equal_error.as_ref().map_or_else(
         || "none measured".to_string(),
         |e| format!("{} ({} ns)", e.evaluation, num(e.ns_per_eval)),
     );
-    let best_outcome = if best.table_wins {
+    let best_outcome = if best.wins {
         "**table**".to_string()
     } else {
         // The evaluation that dominates: the cheapest one at least as accurate.
         best.equal_error
             .as_ref()
-            .map_or("evaluation".to_string(), |e| e.evaluation.clone())
+            .map_or("evaluation".to_string(), |e| e.evaluation.to_string())
     };
     format!(
         "| {fabric} | {} | {} | {} | {} | {equal_error} | {} | {equal_cost} | {} | {outcome} \
          | {best_equal_error} | {} | {best_outcome} |\n",
-        table_name(t.layout, t.resolution),
-        size(t.bytes),
-        pct(v.error),
-        num(v.ns_per_eval),
+        t.evaluation,
+        size(t.bytes()),
+        pct(t.worst_error()),
+        num(t.cost()),
         ratio(v.speed_ratio),
         ratio(v.error_ratio),
         ratio(best.speed_ratio),
     )
 }
 
+/// A table's layout and resolution.
+fn table_of(t: &Point) -> (Layout, u32) {
+    match t.evaluation {
+        Evaluation::Table { layout, resolution } => (layout, resolution),
+        _ => unreachable!("FabricReport::tables yields tables"),
+    }
+}
+
 /// The summary: where tables beat paper mode and the best evaluation, the error budgets,
 /// and every table's verdict.
 pub(super) fn section(report: &Report, md: &mut String) {
-    let all: Vec<(&FabricReport, &TablePoint, &Verdict)> = report
+    let all: Vec<(&FabricReport, &Point)> = report
         .fabrics
         .iter()
-        .flat_map(|f| {
-            f.tables
-                .iter()
-                .zip(&f.verdicts)
-                .map(move |(t, v)| (f, t, v))
-        })
+        .flat_map(|f| f.tables().map(move |t| (f, t)))
         .collect();
-    let wins = |layout: Layout| {
-        let of: Vec<_> = all.iter().filter(|(_, t, _)| t.layout == layout).collect();
-        let won = of.iter().filter(|(_, _, v)| v.table_wins).count();
-        (won, of.len())
+    let of_layout = |layout: Layout| {
+        all.iter()
+            .filter(move |(_, t)| table_of(t).0 == layout)
+            .map(|&(f, t)| (f, t, comparisons(t)))
     };
     let _ = writeln!(md, "## Summary: where table lookup beats paper mode\n");
     for &layout in Layout::ALL {
-        let (won, of) = wins(layout);
-        let losers: Vec<String> = all
-            .iter()
-            .filter(|(_, t, v)| t.layout == layout && !v.table_wins)
-            .map(|(f, t, _)| format!("{} at {}", f.name, t.resolution))
+        let of = of_layout(layout).count();
+        let won = of_layout(layout).filter(|(_, _, (v, _))| v.wins).count();
+        let losers: Vec<String> = of_layout(layout)
+            .filter(|(_, _, (v, _))| !v.wins)
+            .map(|(f, t, _)| format!("{} at {}", f.name, table_of(t).1))
             .collect();
         let _ = writeln!(
             md,
@@ -88,28 +95,22 @@ pub(super) fn section(report: &Report, md: &mut String) {
         );
     }
     for &layout in Layout::ALL {
-        let of: Vec<_> = all.iter().filter(|(_, t, _)| t.layout == layout).collect();
-        let won = of
-            .iter()
-            .filter(|(_, _, v)| v.vs_best_evaluation.table_wins)
-            .count();
-        let losers: Vec<String> = of
-            .iter()
-            .filter(|(_, _, v)| !v.vs_best_evaluation.table_wins)
-            .map(|(f, t, v)| {
-                let by = v
-                    .vs_best_evaluation
+        let of = of_layout(layout).count();
+        let won = of_layout(layout).filter(|(_, _, (_, b))| b.wins).count();
+        let losers: Vec<String> = of_layout(layout)
+            .filter(|(_, _, (_, b))| !b.wins)
+            .map(|(f, t, (_, b))| {
+                let by = b
                     .equal_error
                     .as_ref()
                     .map_or(String::new(), |e| format!(" ({})", e.evaluation));
-                format!("{} at {}{by}", f.name, t.resolution)
+                format!("{} at {}{by}", f.name, table_of(t).1)
             })
             .collect();
         let _ = writeln!(
             md,
             "- **{layout} against the best evaluation** (paper mode or resonant, \
-             vs resonant): the table wins in {won} of {} cases{}.",
-            of.len(),
+             vs resonant): the table wins in {won} of {of} cases{}.",
             if losers.is_empty() {
                 String::new()
             } else {
@@ -153,8 +154,8 @@ pub(super) fn section(report: &Report, md: &mut String) {
         md,
         "|---|---|---:|---:|---:|---|---:|---|---:|---|---|---:|---|"
     );
-    for (f, t, v) in &all {
-        md.push_str(&verdict_row(&f.name, t, v));
+    for (f, t) in &all {
+        md.push_str(&verdict_row(&f.name, t));
     }
     md.push('\n');
 }
@@ -168,27 +169,11 @@ pub const EVERY_TABLE_HEADING: &str = "Every table against paper mode";
 /// Error budgets of the summary table (worse of uniform and highlight relative RMS).
 const BUDGETS: [f64; 6] = [0.01, 0.02, 0.05, 0.1, 0.2, 0.5];
 
-/// The cheapest resonant point of `f` within `budget`.
-fn cheapest_resonant(f: &FabricReport, budget: f64) -> Option<&ResonantPoint> {
-    f.resonant
-        .iter()
-        .filter(|r| worst(&r.error) <= budget)
-        .min_by(|a, b| a.timing.ns_per_eval.total_cmp(&b.timing.ns_per_eval))
-}
-
-/// The cheapest table and the cheapest paper-mode point of `f` within `budget`.
-fn cheapest(f: &FabricReport, budget: f64) -> (Option<&TablePoint>, Option<&PaperPoint>) {
-    let table = f
-        .tables
-        .iter()
-        .filter(|t| worst(&t.error) <= budget)
-        .min_by(|a, b| a.lookup.ns_per_eval.total_cmp(&b.lookup.ns_per_eval));
-    let paper = f
-        .paper
-        .iter()
-        .filter(|p| worst(&p.error) <= budget)
-        .min_by(|a, b| a.timing.ns_per_eval.total_cmp(&b.timing.ns_per_eval));
-    (table, paper)
+/// The cheapest of `points` within `budget`.
+fn cheapest<'a>(points: impl Iterator<Item = &'a Point>, budget: f64) -> Option<&'a Point> {
+    points
+        .filter(|p| p.worst_error() <= budget)
+        .min_by(|a, b| a.cost().total_cmp(&b.cost()))
 }
 
 /// One line per error budget: for how many fabrics the table or paper mode is the faster
@@ -197,8 +182,8 @@ fn budget_bullets(report: &Report, md: &mut String) {
     for budget in BUDGETS {
         let mut counts = [0usize; 5];
         for f in &report.fabrics {
-            let k = match cheapest(f, budget) {
-                (Some(t), Some(p)) if t.lookup.ns_per_eval <= p.timing.ns_per_eval => 0,
+            let k = match (cheapest(f.tables(), budget), cheapest(f.paper(), budget)) {
+                (Some(t), Some(p)) if t.cost() <= p.cost() => 0,
                 (Some(_), Some(_)) => 1,
                 (Some(_), None) => 2,
                 (None, Some(_)) => 3,
@@ -252,26 +237,19 @@ fn budgets(report: &Report, md: &mut String) {
     let _ = writeln!(md, "|---|---:|---|---|---|---|---|");
     for f in &report.fabrics {
         for budget in BUDGETS {
-            let (table, paper) = cheapest(f, budget);
+            let (table, paper) = (cheapest(f.tables(), budget), cheapest(f.paper(), budget));
+            let cell = |p: &Point, name: String| {
+                format!("{name} ({}, {} ns)", pct(p.worst_error()), num(p.cost()))
+            };
             let table_cell = table.map_or("none measured".to_string(), |t| {
-                format!(
-                    "{} ({}, {} ns)",
-                    table_name(t.layout, t.resolution),
-                    pct(worst(&t.error)),
-                    num(t.lookup.ns_per_eval)
-                )
+                cell(t, t.evaluation.to_string())
             });
             let paper_cell = paper.map_or("none up to the largest N".to_string(), |p| {
-                format!(
-                    "N = {} ({}, {} ns)",
-                    p.samples,
-                    pct(worst(&p.error)),
-                    num(p.timing.ns_per_eval)
-                )
+                cell(p, paper_n(p.evaluation))
             });
             let faster = match (table, paper) {
                 (Some(t), Some(p)) => {
-                    let r = p.timing.ns_per_eval / t.lookup.ns_per_eval;
+                    let r = p.cost() / t.cost();
                     if r >= 1.0 {
                         format!("**table**, {}", ratio(Some(r)))
                     } else {
@@ -282,26 +260,21 @@ fn budgets(report: &Report, md: &mut String) {
                 (None, Some(_)) => "paper mode (only)".into(),
                 (None, None) => "–".into(),
             };
-            let resonant = cheapest_resonant(f, budget);
-            let resonant_cell = resonant.map_or("none measured".to_string(), |r| {
-                format!(
-                    "{} ({}, {} ns)",
-                    r.label,
-                    pct(worst(&r.error)),
-                    num(r.timing.ns_per_eval)
-                )
-            });
+            let resonant = cheapest(f.resonant(), budget);
+            let resonant_cell =
+                resonant.map_or("none measured".to_string(), |r| match r.evaluation {
+                    Evaluation::Resonant { nodes } => cell(r, nodes.to_string()),
+                    other => cell(r, other.to_string()),
+                });
             // The cheaper of paper mode and resonant within the budget.
-            let best = [
-                paper.map(|p| (format!("paper N = {}", p.samples), p.timing.ns_per_eval)),
-                resonant.map(|r| (format!("resonant {}", r.label), r.timing.ns_per_eval)),
-            ]
-            .into_iter()
-            .flatten()
-            .min_by(|a, b| a.1.total_cmp(&b.1));
+            let best = [paper, resonant]
+                .into_iter()
+                .flatten()
+                .map(|p| (p.evaluation.to_string(), p.cost()))
+                .min_by(|a, b| a.1.total_cmp(&b.1));
             let versus = match (table, best) {
                 (Some(t), Some((label, ns))) => {
-                    let r = ns / t.lookup.ns_per_eval;
+                    let r = ns / t.cost();
                     if r >= 1.0 {
                         format!("**table**, {} (vs {label})", ratio(Some(r)))
                     } else {

@@ -59,7 +59,7 @@ impl FabricGpu {
         file: TableFile,
         options: GpuOptions,
     ) -> Result<Self, EvaluatorError> {
-        let evaluation: Box<dyn FabricEvaluator> = Box::new(TableEvaluation { file });
+        let evaluation: Box<dyn FabricEvaluator> = Box::new(TableEvaluation { table: file.table });
         let brdf = evaluation.gpu(gpu, options)?;
         let spelling = Shading::Lookup.evaluator(0).spelling();
         Ok(Self {

@@ -165,6 +165,20 @@ fn worst(error: &Value) -> f64 {
     number(&error["uniform"]["relative_rms"]).max(number(&error["highlight"]["relative_rms"]))
 }
 
+/// Node counts as REPORT.md writes them, "6/5/2".
+fn nodes(n: &Value) -> String {
+    format!("{}/{}/{}", n["surface"], n["volume"], n["base"])
+}
+
+/// A table as REPORT.md names it, "thread_frame 48".
+fn table(evaluation: &Value) -> String {
+    format!(
+        "{} {}",
+        evaluation["layout"].as_str().unwrap(),
+        evaluation["resolution"]
+    )
+}
+
 /// Everything measured for the fabric `name` in the JSON, CPU and GPU.
 fn candidates(json: &Value, name: &str) -> Vec<Candidate> {
     let fabric = json["fabrics"]
@@ -180,31 +194,20 @@ fn candidates(json: &Value, name: &str) -> Vec<Candidate> {
         cost: number(&fabric["direct"]["ns_per_eval"]),
         bytes: None,
     }];
-    for p in fabric["paper"].as_array().unwrap() {
+    for p in fabric["points"].as_array().unwrap() {
+        let e = &p["evaluation"];
+        let (name, kind) = match e["family"].as_str().unwrap() {
+            "paper" => (format!("paper N = {}", e["samples"]), "cpu model"),
+            "resonant" => (format!("resonant {}", nodes(&e["nodes"])), "cpu model"),
+            "table" => (table(e), "cpu table"),
+            other => panic!("unknown family {other:?}"),
+        };
         out.push(Candidate {
-            name: format!("paper N = {}", p["samples"]),
-            kind: "cpu model",
+            name,
+            kind,
             error: worst(&p["error"]),
             cost: number(&p["timing"]["ns_per_eval"]),
-            bytes: None,
-        });
-    }
-    for r in fabric["resonant"].as_array().unwrap() {
-        out.push(Candidate {
-            name: format!("resonant {}", r["label"].as_str().unwrap()),
-            kind: "cpu model",
-            error: worst(&r["error"]),
-            cost: number(&r["timing"]["ns_per_eval"]),
-            bytes: None,
-        });
-    }
-    for t in fabric["tables"].as_array().unwrap() {
-        out.push(Candidate {
-            name: format!("{} {}", t["layout"].as_str().unwrap(), t["resolution"]),
-            kind: "cpu table",
-            error: worst(&t["error"]),
-            cost: number(&t["lookup"]["ns_per_eval"]),
-            bytes: Some(number(&t["bytes"])),
+            bytes: p["bytes"].as_f64(),
         });
     }
     let gpu = &json["gpu"];
@@ -216,13 +219,11 @@ fn candidates(json: &Value, name: &str) -> Vec<Candidate> {
         .filter(|_| gpu["measured"] == true);
     if let Some(f) = gpu_fabric {
         for p in f["points"].as_array().unwrap() {
-            let name = match (p["samples"].as_u64(), p["nodes"].as_object()) {
-                (Some(n), _) => format!("paper-mode shader N = {n}"),
-                (None, Some(n)) => format!(
-                    "resonant shader {}/{}/{}",
-                    n["surface"], n["volume"], n["base"]
-                ),
-                (None, None) => format!("lookup shader, {}", f["table"].as_str().unwrap()),
+            let e = &p["evaluation"];
+            let name = match e["family"].as_str().unwrap() {
+                "paper" => format!("paper-mode shader N = {}", e["samples"]),
+                "resonant" => format!("resonant shader {}", nodes(&e["nodes"])),
+                _ => format!("lookup shader, {}", table(e)),
             };
             out.push(Candidate {
                 name,

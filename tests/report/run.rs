@@ -139,36 +139,38 @@ fn tiny_report_writes_json_markdown_and_plots() {
     for f in fabrics {
         let name = f["name"].as_str().unwrap().to_string();
         check_timing(&f["direct"], 3, &format!("{name} direct"));
-        let paper = f["paper"].as_array().unwrap();
+        let points = f["points"].as_array().expect("points array");
+        let of = |family: &str| -> Vec<&Value> {
+            points
+                .iter()
+                .filter(|p| p["evaluation"]["family"] == family)
+                .collect()
+        };
+        let paper = of("paper");
         assert_eq!(
             paper
                 .iter()
-                .map(|p| p["samples"].as_u64().unwrap())
+                .map(|p| p["evaluation"]["samples"].as_u64().unwrap())
                 .collect::<Vec<_>>(),
             [1, 4, 16]
         );
-        for p in paper {
+        for p in &paper {
             check_error(&p["error"], &format!("{name} paper"));
             check_timing(&p["timing"], 3, &format!("{name} paper"));
+            // Paper mode is the baseline: compared with nothing.
+            assert!(p["vs_paper"].is_null() && p["vs_best"].is_null(), "{p}");
         }
-        let resonant = f["resonant"].as_array().expect("resonant array");
+        let resonant = of("resonant");
+        let node_counts = |p: &Value| {
+            let n = &p["evaluation"]["nodes"];
+            format!("{}/{}/{}", n["surface"], n["volume"], n["base"])
+        };
         assert_eq!(
-            resonant
-                .iter()
-                .map(|r| r["label"].as_str().unwrap())
-                .collect::<Vec<_>>(),
+            resonant.iter().map(|r| node_counts(r)).collect::<Vec<_>>(),
             ["3/2/2".to_string(), ResonantNodes::DEFAULT.to_string()]
         );
-        assert_eq!(
-            resonant
-                .iter()
-                .map(|r| r["default"].as_bool().unwrap())
-                .collect::<Vec<_>>(),
-            [false, true]
-        );
-        for r in resonant {
-            let what = format!("{name} resonant {}", r["label"]);
-            assert!(r["nodes"]["surface"].as_u64().is_some(), "{what}");
+        for r in &resonant {
+            let what = format!("{name} resonant {}", node_counts(r));
             check_error(&r["error"], &what);
             check_timing(&r["timing"], 3, &what);
             let per_light = &r["evaluations_per_light"];
@@ -176,29 +178,36 @@ fn tiny_report_writes_json_markdown_and_plots() {
             let highlight = finite(&per_light["highlight"], &what);
             assert!(uniform > 0.0 && highlight > 0.0, "{what}");
             assert!(per_light["max"].as_u64().unwrap() as f64 >= uniform.max(highlight));
-            // Either a paper-mode point at least as accurate with the cost ratio to it, or
-            // neither.
+            // Against paper mode: either a paper-mode point at least as accurate with the
+            // speed ratio to it, or neither.
+            let vs_paper = &r["vs_paper"];
+            assert!(vs_paper["wins"].is_boolean(), "{what}: {vs_paper}");
             assert_eq!(
-                r["paper_equal_error"].is_null(),
-                r["cost_ratio_to_paper"].is_null(),
+                vs_paper["equal_error"].is_null(),
+                vs_paper["speed_ratio"].is_null(),
                 "{what}"
             );
-            if !r["cost_ratio_to_paper"].is_null() {
-                assert!(finite(&r["cost_ratio_to_paper"], &what) > 0.0);
+            if !vs_paper["speed_ratio"].is_null() {
+                assert!(finite(&vs_paper["speed_ratio"], &what) > 0.0);
+                assert_eq!(vs_paper["equal_error"]["evaluation"]["family"], "paper");
             }
+            assert!(
+                r["vs_best"].is_null(),
+                "{what}: only tables are judged against all"
+            );
         }
         // More nodes: at least as many kernel evaluations per light.
         assert!(
             resonant[1]["evaluations_per_light"]["uniform"].as_f64()
                 >= resonant[0]["evaluations_per_light"]["uniform"].as_f64()
         );
-        let tables = f["tables"].as_array().unwrap();
+        let tables = of("table");
         let ids: Vec<(String, u64)> = tables
             .iter()
             .map(|t| {
                 (
-                    t["layout"].as_str().unwrap().to_string(),
-                    t["resolution"].as_u64().unwrap(),
+                    t["evaluation"]["layout"].as_str().unwrap().to_string(),
+                    t["evaluation"]["resolution"].as_u64().unwrap(),
                 )
             })
             .collect();
@@ -211,29 +220,26 @@ fn tiny_report_writes_json_markdown_and_plots() {
                 ("grid4d".into(), 6)
             ]
         );
-        for t in tables {
+        for t in &tables {
             check_error(&t["error"], &format!("{name} table"));
-            check_timing(&t["lookup"], 3, &format!("{name} lookup"));
+            check_timing(&t["timing"], 3, &format!("{name} lookup"));
             assert!(t["bytes"].as_u64().unwrap() > 0);
             assert!(finite(&t["bake"]["seconds"], "bake") > 0.0);
         }
         // A larger grid4d table has more texels than a smaller one.
         assert!(tables[3]["bytes"].as_u64() > tables[2]["bytes"].as_u64());
-        assert_eq!(f["verdicts"].as_array().unwrap().len(), tables.len());
-        for v in f["verdicts"].as_array().unwrap() {
-            let best = &v["vs_best_evaluation"];
-            assert!(best["table_wins"].is_boolean(), "{name}: {v}");
+        for t in &tables {
+            let (paper, best) = (&t["vs_paper"], &t["vs_best"]);
+            assert!(paper["wins"].is_boolean(), "{name}: {t}");
+            assert!(best["wins"].is_boolean(), "{name}: {t}");
             // Judged against paper mode and resonant together, a table wins at most where
             // it wins against paper mode alone.
-            if best["table_wins"] == true {
-                assert_eq!(v["table_wins"], true, "{name}: {v}");
+            if best["wins"] == true {
+                assert_eq!(paper["wins"], true, "{name}: {t}");
             }
             if let Some(e) = best["equal_error"].as_object() {
-                let evaluation = e["evaluation"].as_str().unwrap();
-                assert!(
-                    evaluation.starts_with("paper N = ") || evaluation.starts_with("resonant "),
-                    "{evaluation}"
-                );
+                let family = e["evaluation"]["family"].as_str().unwrap();
+                assert!(family == "paper" || family == "resonant", "{family}");
                 assert!(finite(&best["speed_ratio"], "speed ratio") > 0.0);
             }
         }

@@ -290,7 +290,18 @@ macro_rules! resonant_label {
 }
 
 /// Picks one error figure of a table.
-pub(super) type ErrorOf = fn(&super::super::TablePoint) -> f64;
+pub(super) type ErrorOf = fn(&super::super::Point) -> f64;
+
+/// The label beside a point in a plot: paper mode's N, the resonant node counts, a table's
+/// resolution.
+pub(super) fn point_label(evaluation: super::super::Evaluation) -> String {
+    use super::super::Evaluation;
+    match evaluation {
+        Evaluation::Paper { samples } => samples.to_string(),
+        Evaluation::Resonant { nodes } => nodes.to_string(),
+        Evaluation::Table { resolution, .. } => resolution.to_string(),
+    }
+}
 
 /// Draws one plot of a report into a file.
 pub(super) type Plot = fn(&Report, &Path) -> PlotResult;

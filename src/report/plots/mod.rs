@@ -7,7 +7,7 @@
 #[macro_use]
 mod chart;
 
-use super::{Report, ReportError, worst};
+use super::{Evaluation, FabricReport, Point, Report, ReportError};
 use crate::table::Layout;
 use chart::*;
 use plotters::prelude::*;
@@ -19,6 +19,18 @@ pub const ERROR_VS_COST: &str = "error_vs_cost.png";
 pub const BAKE_TIME: &str = "bake_time.png";
 pub const GPU_COST: &str = "gpu_cost.png";
 
+/// The tables of `f` of one layout.
+fn of_layout(f: &FabricReport, layout: Layout) -> Vec<&Point> {
+    f.tables()
+        .filter(|t| matches!(t.evaluation, Evaluation::Table { layout: l, .. } if l == layout))
+        .collect()
+}
+
+/// Where a CPU point goes in an error-against-cost plot.
+fn cost_and_error(p: &Point) -> (f64, f64) {
+    lg2((p.cost(), p.worst_error()))
+}
+
 /// Error (relative RMS) against table size (MiB), per fabric, one curve per layout and set.
 fn error_vs_size(report: &Report, path: &Path) -> PlotResult {
     let size = grid_size(report.fabrics.len());
@@ -29,8 +41,8 @@ fn error_vs_size(report: &Report, path: &Path) -> PlotResult {
             .enumerate()
         {
             let mib = |b: usize| b as f64 / (1024.0 * 1024.0);
-            let xs = log_range(f.tables.iter().map(|t| mib(t.bytes)));
-            let ys = log_range(f.tables.iter().flat_map(|t| {
+            let xs = log_range(f.tables().map(|t| mib(t.bytes())));
+            let ys = log_range(f.tables().flat_map(|t| {
                 [
                     t.error.uniform.relative_rms,
                     t.error.highlight.relative_rms,
@@ -50,7 +62,7 @@ fn error_vs_size(report: &Report, path: &Path) -> PlotResult {
                 },
             )?;
             for &layout in Layout::ALL {
-                let of: Vec<_> = f.tables.iter().filter(|t| t.layout == layout).collect();
+                let of = of_layout(f, layout);
                 let sets: [(&str, Marker, ErrorOf); 3] = [
                     ("uniform", Marker::Circle, |t| t.error.uniform.relative_rms),
                     ("highlight", Marker::Triangle, |t| {
@@ -62,7 +74,7 @@ fn error_vs_size(report: &Report, path: &Path) -> PlotResult {
                 ];
                 for (set, marker, value) in sets {
                     let points: Vec<(f64, f64)> =
-                        of.iter().map(|t| lg2((mib(t.bytes), value(t)))).collect();
+                        of.iter().map(|t| lg2((mib(t.bytes()), value(t)))).collect();
                     let label = format!("{layout} {set}");
                     curve(
                         &mut chart,
@@ -93,20 +105,12 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
             .enumerate()
         {
             let xs = log_range(
-                f.paper
+                f.points
                     .iter()
-                    .map(|p| p.timing.ns_per_eval)
-                    .chain(f.resonant.iter().map(|r| r.timing.ns_per_eval))
-                    .chain(f.tables.iter().map(|t| t.lookup.ns_per_eval))
+                    .map(Point::cost)
                     .chain([f.direct.ns_per_eval]),
             );
-            let ys = log_range(
-                f.paper
-                    .iter()
-                    .map(|p| worst(&p.error))
-                    .chain(f.resonant.iter().map(|r| worst(&r.error)))
-                    .chain(f.tables.iter().map(|t| worst(&t.error))),
-            );
+            let ys = log_range(f.points.iter().map(Point::worst_error));
             let (y0, y1) = (ys.start, ys.end);
             let mut chart = panel_chart(
                 panel,
@@ -120,11 +124,7 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                     y_ticks: &fmt_log_percent,
                 },
             )?;
-            let paper: Vec<(f64, f64)> = f
-                .paper
-                .iter()
-                .map(|p| lg2((p.timing.ns_per_eval, worst(&p.error))))
-                .collect();
+            let paper: Vec<(f64, f64)> = f.paper().map(cost_and_error).collect();
             curve(
                 &mut chart,
                 &paper,
@@ -133,15 +133,10 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                 (k == 0).then_some("paper mode (N)"),
             )?;
             chart.draw_series(
-                f.paper
-                    .iter()
-                    .map(|p| paper_label!(p.samples, lg2((p.timing.ns_per_eval, worst(&p.error))))),
+                f.paper()
+                    .map(|p| paper_label!(point_label(p.evaluation), cost_and_error(p))),
             )?;
-            let resonant: Vec<(f64, f64)> = f
-                .resonant
-                .iter()
-                .map(|r| lg2((r.timing.ns_per_eval, worst(&r.error))))
-                .collect();
+            let resonant: Vec<(f64, f64)> = f.resonant().map(cost_and_error).collect();
             curve(
                 &mut chart,
                 &resonant,
@@ -150,16 +145,13 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                 (k == 0).then_some("resonant (surface/volume/base)"),
             )?;
             chart.draw_series(
-                f.resonant.iter().map(|r| {
-                    resonant_label!(r.label, lg2((r.timing.ns_per_eval, worst(&r.error))))
-                }),
+                f.resonant()
+                    .map(|r| resonant_label!(point_label(r.evaluation), cost_and_error(r))),
             )?;
             for &layout in Layout::ALL {
-                let points: Vec<(f64, f64)> = f
-                    .tables
-                    .iter()
-                    .filter(|t| t.layout == layout)
-                    .map(|t| lg2((t.lookup.ns_per_eval, worst(&t.error))))
+                let points: Vec<(f64, f64)> = of_layout(f, layout)
+                    .into_iter()
+                    .map(cost_and_error)
                     .collect();
                 let label = format!("{layout} lookup");
                 curve(
@@ -191,11 +183,15 @@ fn bake_time(report: &Report, path: &Path) -> PlotResult {
     let layouts = Layout::ALL;
     write_png(path, (PANEL.0 * layouts.len() as u32, PANEL.1), |root| {
         for (panel, &layout) in root.split_evenly((1, layouts.len())).iter().zip(layouts) {
-            let points = |f: &super::FabricReport| -> Vec<(f64, f64)> {
-                f.tables
-                    .iter()
-                    .filter(|t| t.layout == layout)
-                    .map(|t| (t.resolution as f64, lg(t.bake.seconds)))
+            let points = |f: &FabricReport| -> Vec<(f64, f64)> {
+                of_layout(f, layout)
+                    .into_iter()
+                    .filter_map(|t| {
+                        let Evaluation::Table { resolution, .. } = t.evaluation else {
+                            return None;
+                        };
+                        Some((resolution as f64, lg(t.bake.as_ref()?.seconds)))
+                    })
                     .collect()
             };
             let all: Vec<(f64, f64)> = report.fabrics.iter().flat_map(points).collect();
@@ -259,12 +255,15 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
                     y_ticks: &fmt_log_percent,
                 },
             )?;
-            let paper: Vec<(f64, f64)> = f
-                .points
-                .iter()
-                .filter(|p| p.samples.is_some())
-                .map(|p| lg2((p.ms_per_frame, p.image_relative_l2)))
-                .collect();
+            let at = |p: &super::gpu::GpuPoint| lg2((p.ms_per_frame, p.image_relative_l2));
+            let of = |keep: fn(&Evaluation) -> bool| {
+                f.points
+                    .iter()
+                    .filter(move |p| keep(&p.evaluation))
+                    .collect::<Vec<_>>()
+            };
+            let paper_points = of(Evaluation::is_paper);
+            let paper: Vec<(f64, f64)> = paper_points.iter().map(|p| at(p)).collect();
             curve(
                 &mut chart,
                 &paper,
@@ -272,12 +271,12 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
                 Marker::Triangle,
                 (k == 0).then_some("paper-mode shader (N)"),
             )?;
-            chart.draw_series(f.points.iter().filter_map(|p| {
-                p.samples
-                    .map(|n| paper_label!(n, lg2((p.ms_per_frame, p.image_relative_l2))))
-            }))?;
-            let resonant: Vec<_> = f.points.iter().filter(|p| p.nodes.is_some()).collect();
-            let at = |p: &super::gpu::GpuPoint| lg2((p.ms_per_frame, p.image_relative_l2));
+            chart.draw_series(
+                paper_points
+                    .iter()
+                    .map(|p| paper_label!(point_label(p.evaluation), at(p))),
+            )?;
+            let resonant = of(|e| matches!(e, Evaluation::Resonant { .. }));
             curve(
                 &mut chart,
                 &resonant.iter().map(|p| at(p)).collect::<Vec<_>>(),
@@ -288,15 +287,12 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
             chart.draw_series(
                 resonant
                     .iter()
-                    .filter_map(|p| p.nodes.map(|n| resonant_label!(n, at(p)))),
+                    .map(|p| resonant_label!(point_label(p.evaluation), at(p))),
             )?;
-            let lookup: Vec<(f64, f64)> = f
-                .points
-                .iter()
-                .filter(|p| p.shader == "lookup")
-                .map(|p| lg2((p.ms_per_frame, p.image_relative_l2)))
-                .collect();
-            let label = format!("lookup shader ({})", f.table);
+            let lookup: Vec<(f64, f64)> = f.lookup().map(at).into_iter().collect();
+            let label = f.lookup().map_or(String::new(), |p| {
+                format!("lookup shader ({})", p.evaluation)
+            });
             curve(
                 &mut chart,
                 &lookup,
