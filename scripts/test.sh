@@ -2,7 +2,8 @@
 # The test suite, as CI runs it: everything (the core with its default features, the wgpu
 # runtime, GPU tests on whatever adapter wgpu finds; the Bevy plugin, with Bevy's wgpu), then
 # the CLI with the runtime feature off, as an engine with its own wgpu builds the core.
-# Release mode: the direct evaluation is too slow unoptimised.
+# The `ci` profile (Cargo.toml): our crates optimised as in release (the direct evaluation is
+# too slow unoptimised), the dependencies the tests do not wait on left unoptimised.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # The core and the Bevy plugin in one build graph: the dependencies they share build once,
@@ -12,7 +13,7 @@ cd "$(dirname "$0")/.."
 # plugin off the runtime's modules); the CLI without the runtime is built and tested below.
 # The plugin's headless comparison runs the `clothbake` binary of this same build
 # (CLOTHBAKE_BIN) rather than building it again with the core's own feature set.
-CLOTHBAKE_BIN="$PWD/target/release/clothbake" cargo test --release --locked --workspace
+CLOTHBAKE_BIN="$PWD/target/ci/clothbake" cargo test --profile ci --locked --workspace
 # Without the runtime: the CLI without `render`/`view`/`report` (its own test binary, `cli`,
 # tests/cli/, against that binary; `eval --evaluator` there exercises the evaluators without
 # their GPU forms). Nothing else needs running again: the feature only changes lib.rs's list
@@ -20,4 +21,4 @@ CLOTHBAKE_BIN="$PWD/target/release/clothbake" cargo test --release --locked --wo
 # (tests/repository/feature_split.rs keeps it so), and the other core modules build the same
 # either way. The workspace's feature
 # unification differs here, so some dependencies build a second time.
-cargo test --release --locked --no-default-features --bins --test cli
+cargo test --profile ci --locked --no-default-features --bins --test cli
