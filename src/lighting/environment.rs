@@ -37,8 +37,14 @@
 //!
 //! Environment files come from users: the dimensions are read from the header and checked
 //! against [`MAX_SIDE`] and [`MAX_TEXELS`] before any texel is allocated, a truncated or
-//! corrupt file is an error naming the file, and so is a texel that is not finite or is
-//! negative (naming the texel as well). Nothing read from a file panics.
+//! corrupt file is an error naming the file, and so is a texel that is not finite (naming the
+//! texel as well). Nothing read from a file panics.
+//!
+//! Real HDR photographs hold a few slightly negative texels, the residue of filtering and
+//! lossy compression (−3e-6 to −0.004 beside a mean radiance near 1, in 3 to 9,000 texels of
+//! a 1024 × 512 map), which viewers and renderers clamp. [`Environment::load`] clamps them to
+//! zero too and says how many it clamped ([`ClampedNegatives`]); a texel more negative than
+//! the map's mean radiance is no such residue but signed data, and is refused by position.
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -95,6 +101,45 @@ pub enum ContentError {
     /// A texel is not finite or has a negative channel.
     #[error("texel ({col}, {row}) holds {value:?}: radiance must be finite and non-negative")]
     Texel { col: u32, row: u32, value: [f32; 3] },
+    /// A file's texel is more negative than the map's mean radiance: signed data, not the
+    /// small negative residue that [`Environment::load`] clamps.
+    #[error(
+        "texel ({col}, {row}) holds {value:?}, more negative than the map's mean radiance \
+         {mean:.3e}: not a radiance map"
+    )]
+    Negative {
+        col: u32,
+        row: u32,
+        value: [f32; 3],
+        mean: f64,
+    },
+}
+
+/// The negative texels of a file that [`Environment::load`] clamped to zero.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClampedNegatives {
+    /// Texels with at least one negative channel.
+    pub texels: usize,
+    /// The most negative channel value among them.
+    pub most_negative: f32,
+    /// Where it was: column and row of level 0.
+    pub col: u32,
+    pub row: u32,
+}
+
+impl std::fmt::Display for ClampedNegatives {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "clamped {} texel{} with a negative channel to 0 (the most negative, {:.3e}, at \
+             ({}, {}))",
+            self.texels,
+            if self.texels == 1 { "" } else { "s" },
+            self.most_negative,
+            self.col,
+            self.row
+        )
+    }
 }
 
 /// Why an environment could not be made or read.
@@ -302,6 +347,8 @@ fn to_dvec3(texel: [f32; 3]) -> DVec3 {
 pub struct Environment {
     /// Level 0 at full resolution, then each halved, down to 1×1; never empty.
     levels: Vec<Level>,
+    /// What loading the file clamped, if anything.
+    clamped: Option<ClampedNegatives>,
 }
 
 impl Environment {
@@ -339,18 +386,23 @@ impl Environment {
             let next = last.downsample();
             levels.push(next);
         }
-        Ok(Self { levels })
+        Ok(Self {
+            levels,
+            clamped: None,
+        })
     }
 
     /// Reads an environment file, by extension (case-insensitive): `.hdr` (Radiance RGBE,
     /// the usual `-Y H +X W` orientation; an `EXPOSURE` line is ignored, as most loaders
     /// do) or `.exr` (the first layer with `R`, `G` and `B` channels, any sample type, other
-    /// channels ignored). The dimensions are checked before pixels are decoded.
+    /// channels ignored). The dimensions are checked before pixels are decoded. Slightly
+    /// negative texels are clamped to zero ([`Self::clamped_negatives`] says how many; see
+    /// the module documentation); a texel that is not finite is refused by position.
     pub fn load(path: &Path) -> Result<Self, EnvironmentError> {
         let extension = path
             .extension()
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
-        let (width, height, texels) = match extension.as_deref() {
+        let (width, height, mut texels) = match extension.as_deref() {
             Some("hdr") => read_hdr(path)?,
             Some("exr") => read_exr(path)?,
             _ => {
@@ -359,10 +411,20 @@ impl Environment {
                 });
             }
         };
-        Self::build(width, height, texels).map_err(|problem| EnvironmentError::Content {
+        let content = |problem| EnvironmentError::Content {
             path: path.to_path_buf(),
             problem,
-        })
+        };
+        let clamped = clamp_negatives(width, &mut texels).map_err(content)?;
+        let mut environment = Self::build(width, height, texels).map_err(content)?;
+        environment.clamped = clamped;
+        Ok(environment)
+    }
+
+    /// The negative texels [`Self::load`] clamped to zero; None when there were none (and
+    /// for maps not read from a file).
+    pub fn clamped_negatives(&self) -> Option<&ClampedNegatives> {
+        self.clamped.as_ref()
     }
 
     /// A constant environment of `radiance` in every direction and channel: with radiance 1
@@ -482,6 +544,68 @@ pub(crate) fn check_size(width: u64, height: u64) -> Result<(), ContentError> {
         return Err(ContentError::Size { width, height });
     }
     Ok(())
+}
+
+/// Clamps a file's slightly negative texels to zero (see the module documentation). Refuses
+/// the first texel that is not finite, or the most negative one when it is more negative
+/// than the map's mean radiance (over every channel).
+fn clamp_negatives(
+    width: u32,
+    texels: &mut [[f32; 3]],
+) -> Result<Option<ClampedNegatives>, ContentError> {
+    let at = |index: usize| {
+        (
+            (index % width as usize) as u32,
+            (index / width as usize) as u32,
+        )
+    };
+    if let Some(index) = texels
+        .par_iter()
+        .position_first(|t| t.iter().any(|v| !v.is_finite()))
+    {
+        let (col, row) = at(index);
+        return Err(ContentError::Texel {
+            col,
+            row,
+            value: texels[index],
+        });
+    }
+    let most_negative = |t: &[f32; 3]| t[0].min(t[1]).min(t[2]);
+    let negative = texels.par_iter().filter(|t| most_negative(t) < 0.0).count();
+    if negative == 0 {
+        return Ok(None);
+    }
+    let (index, lowest) = texels
+        .iter()
+        .map(most_negative)
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("a negative texel exists");
+    let (col, row) = at(index);
+    let mean = texels
+        .par_iter()
+        .map(|t| t.iter().map(|&v| v as f64).sum::<f64>())
+        .sum::<f64>()
+        / (3 * texels.len()) as f64;
+    if -(lowest as f64) > mean {
+        return Err(ContentError::Negative {
+            col,
+            row,
+            value: texels[index],
+            mean,
+        });
+    }
+    texels.par_iter_mut().for_each(|t| {
+        for v in t {
+            *v = v.max(0.0);
+        }
+    });
+    Ok(Some(ClampedNegatives {
+        texels: negative,
+        most_negative: lowest,
+        col,
+        row,
+    }))
 }
 
 /// The first texel that is not finite or has a negative channel, if any.

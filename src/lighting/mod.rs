@@ -7,7 +7,7 @@ mod source;
 mod studio;
 
 pub use environment::{
-    ContentError, Environment, EnvironmentError, Level, MAX_SIDE, MAX_TEXELS, equirect_direction,
-    equirect_uv,
+    ClampedNegatives, ContentError, Environment, EnvironmentError, Level, MAX_SIDE, MAX_TEXELS,
+    equirect_direction, equirect_uv,
 };
 pub use source::EnvironmentSource;

@@ -163,6 +163,12 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             map.levels().len(),
             settings.environment_samples
         ));
+        if let Some(clamped) = map.clamped_negatives() {
+            say(&format!(
+                "environment {}: {clamped}",
+                job.scene.environment.source
+            ));
+        }
     }
     let several = fabrics.len() > 1;
     let mut headless: Option<Headless> = None;

@@ -170,6 +170,12 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
         .source
         .load()
         .map_err(|e| ViewError::Setup(e.to_string()))?;
+    if let Some(clamped) = environment.as_ref().and_then(|e| e.clamped_negatives()) {
+        eprintln!(
+            "clothbake view: environment {}: {clamped}",
+            scene.environment.source
+        );
+    }
     app::run(
         app::Setup {
             environment,

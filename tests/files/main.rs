@@ -1,4 +1,5 @@
-//! File formats read as untrusted input: fabric files (`clothbake::formats::fabric_toml`).
+//! File formats read as untrusted input: fabric files (`clothbake::formats::fabric_toml`) and
+//! environment maps with the traits of real HDR photographs (`Environment::load`).
 //!
 //! One binary per part of the crate, each module a former test file: each integration-test
 //! binary is another release link of the whole crate with wgpu, naga, exr and ash.
@@ -7,3 +8,4 @@
 mod common;
 
 mod fabric_file;
+mod hdr_photographs;
