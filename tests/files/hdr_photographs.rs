@@ -38,53 +38,31 @@ fn write(path: &Path, width: usize, height: usize, texels: &[[f32; 3]], shape: S
         },
         line_order: LineOrder::Increasing,
     };
-    let size = Vec2(width, height);
-    let attributes = LayerAttributes::named("photograph");
+    // One layer of whichever channels: the four shapes differ only in their sample types.
+    macro_rules! write_layer {
+        ($channels:expr) => {
+            Image::from_layer(Layer::new(
+                Vec2(width, height),
+                LayerAttributes::named("photograph"),
+                encoding,
+                $channels,
+            ))
+            .write()
+            .to_file(path)
+        };
+    }
+    let half = |p| at(p).map(f16::from_f32);
     let result = match (shape.alpha, shape.half) {
-        (false, false) => Image::from_layer(Layer::new(
-            size,
-            attributes,
-            encoding,
-            SpecificChannels::rgb(|p| {
-                let t = at(p);
-                (t[0], t[1], t[2])
-            }),
-        ))
-        .write()
-        .to_file(path),
-        (false, true) => Image::from_layer(Layer::new(
-            size,
-            attributes,
-            encoding,
-            SpecificChannels::rgb(|p| {
-                let t = at(p).map(f16::from_f32);
-                (t[0], t[1], t[2])
-            }),
-        ))
-        .write()
-        .to_file(path),
-        (true, false) => Image::from_layer(Layer::new(
-            size,
-            attributes,
-            encoding,
-            SpecificChannels::rgba(|p| {
-                let t = at(p);
-                (t[0], t[1], t[2], 1.0f32)
-            }),
-        ))
-        .write()
-        .to_file(path),
-        (true, true) => Image::from_layer(Layer::new(
-            size,
-            attributes,
-            encoding,
-            SpecificChannels::rgba(|p| {
-                let t = at(p).map(f16::from_f32);
-                (t[0], t[1], t[2], f16::ONE)
-            }),
-        ))
-        .write()
-        .to_file(path),
+        (false, false) => write_layer!(SpecificChannels::rgb(|p| at(p).into())),
+        (false, true) => write_layer!(SpecificChannels::rgb(|p| half(p).into())),
+        (true, false) => write_layer!(SpecificChannels::rgba(|p| {
+            let [r, g, b] = at(p);
+            (r, g, b, 1.0f32)
+        })),
+        (true, true) => write_layer!(SpecificChannels::rgba(|p| {
+            let [r, g, b] = half(p);
+            (r, g, b, f16::ONE)
+        })),
     };
     result.unwrap();
 }
