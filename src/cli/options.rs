@@ -15,6 +15,22 @@ use std::sync::Arc;
 #[error("{0}")]
 pub struct UsageError(pub String);
 
+/// The older spelling of an evaluator on `render` and `view` (`--shader`), kept because
+/// users' scripts call it; `--evaluator` is the spelling every command shares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ShaderArg {
+    /// Table lookup from the baked tables.
+    Lookup,
+    /// The model itself in the shader, paper mode (--samples per thread).
+    Paper,
+    /// The same as paper: the name this shader had before the evaluators had one spelling.
+    Direct,
+    /// The resonant quadrature in the shader (--surface-nodes, --volume-nodes, --base-nodes).
+    Resonant,
+    /// F = 1/π: the frame's cost without BRDF work, the floor under any shader's time.
+    Constant,
+}
+
 /// The resonant quadrature's node counts (`eval --integration resonant`,
 /// `render --shader resonant`); each defaults to `ResonantNodes::DEFAULT`'s.
 #[derive(clap::Args)]

@@ -1,7 +1,7 @@
 //! `clothbake render`: the scene's cloth rendered headless to PNG.
 
 use super::CommandResult;
-use super::options::{LookupArgs, NodeArgs, SceneArgs, UsageError};
+use super::options::{LookupArgs, NodeArgs, SceneArgs, ShaderArg, UsageError};
 use clothbake::evaluator::constant::Constant;
 use clothbake::evaluator::paper::Paper;
 use clothbake::evaluator::resonant::Resonant;
@@ -56,20 +56,6 @@ pub struct Args {
     linear: bool,
     #[command(flatten)]
     lookup: LookupArgs,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum ShaderArg {
-    /// Table lookup from the baked tables.
-    Lookup,
-    /// The model itself in the shader, paper mode (--samples per thread).
-    Paper,
-    /// The same as paper: the name this shader had before the evaluators had one spelling.
-    Direct,
-    /// The resonant quadrature in the shader (--surface-nodes, --volume-nodes, --base-nodes).
-    Resonant,
-    /// F = 1/π: the frame's cost without BRDF work, the floor under any shader's time.
-    Constant,
 }
 
 /// The evaluator that `--shader`, `--samples` and the node options select.

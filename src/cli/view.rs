@@ -1,7 +1,7 @@
 //! `clothbake view`: the interactive window.
 
 use super::CommandResult;
-use super::options::{LookupArgs, SceneArgs};
+use super::options::{LookupArgs, SceneArgs, ShaderArg, UsageError};
 use clothbake::gpu::direct::DEFAULT_SAMPLES;
 use clothbake::viewer::{self, Shading, ViewOptions};
 
@@ -20,26 +20,25 @@ pub struct Args {
           value_parser = clap::value_parser!(u32).range(1..=1024))]
     samples: u32,
     /// Shading at start: table lookup, the model in the shader in paper mode (key D
-    /// toggles), or the resonant quadrature in the shader (key G toggles).
+    /// toggles), or the resonant quadrature in the shader (key G toggles); constant is render's only.
     #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
     shader: ShaderArg,
     #[command(flatten)]
     lookup: LookupArgs,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum ShaderArg {
-    /// The fabric's baked table.
-    Lookup,
-    /// The model in the shader, paper mode (--samples per thread).
-    Paper,
-    /// The same as paper: this shader's name before the evaluators had one spelling.
-    Direct,
-    /// The resonant quadrature in the shader.
-    Resonant,
-}
-
 pub fn run(args: Args) -> CommandResult {
+    let shading = match args.shader {
+        ShaderArg::Lookup => Shading::Lookup,
+        ShaderArg::Paper | ShaderArg::Direct => Shading::Paper,
+        ShaderArg::Resonant => Shading::Resonant,
+        ShaderArg::Constant => {
+            return Err(UsageError(
+                "view has no constant shading: --shader lookup, paper or resonant".into(),
+            )
+            .into());
+        }
+    };
     let summary = viewer::run(ViewOptions {
         scene: args.scene.load()?,
         fabric: args.fabric,
@@ -47,11 +46,7 @@ pub fn run(args: Args) -> CommandResult {
         mesh: args.scene.mesh,
         frames: args.frames,
         samples: args.samples,
-        shading: match args.shader {
-            ShaderArg::Lookup => Shading::Lookup,
-            ShaderArg::Paper | ShaderArg::Direct => Shading::Paper,
-            ShaderArg::Resonant => Shading::Resonant,
-        },
+        shading,
         horizon_band: args.lookup.horizon_band(),
     })?;
     let ms = |v: Option<f64>| v.map_or_else(|| "n/a".to_string(), |v| format!("{v:.2} ms"));

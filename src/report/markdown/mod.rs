@@ -6,6 +6,9 @@ use crate::model::ResonantNodes;
 use crate::table::Layout;
 use std::fmt::Write;
 
+mod gpu;
+use gpu::gpu_section;
+
 /// The Markdown file's name in the output directory.
 pub const FILE_NAME: &str = "REPORT.md";
 
@@ -422,127 +425,6 @@ fn bake_section(report: &Report, md: &mut String) {
             s.speedup,
             if s.identical { "yes" } else { "**no**" }
         );
-    }
-    md.push('\n');
-}
-
-fn gpu_section(report: &Report, md: &mut String) {
-    let g = &report.gpu;
-    let _ = writeln!(md, "## GPU\n");
-    let _ = writeln!(
-        md,
-        "Adapter: {}. {}.\n",
-        g.adapter.as_deref().unwrap_or("none found"),
-        g.status
-    );
-    if !g.measured {
-        return;
-    }
-    let [w, h] = g.frame.unwrap_or_default();
-    let _ = writeln!(
-        md,
-        "The standard scene (tables/scene.toml: the cloth draped over a sphere, a directional \
-         and a point light) rendered headless at {w}×{h} for each fabric, by the lookup shader \
-         (the fabric's largest thread_frame table measured above), by the paper-mode shader \
-         at each N and by the resonant shader. Time: median of {} frames after a warm-up frame ({}). Image error: \
-         ‖render − reference‖₂/‖reference‖₂ of the linear radiance over the covered pixels, \
-         against the CPU reference render (direct evaluation of the same G-buffer).\n",
-        g.frames,
-        g.timing_source.as_deref().unwrap_or("unknown timing")
-    );
-    let _ = writeln!(md, "![GPU error against cost]({})\n", plots::GPU_COST);
-    let _ = writeln!(
-        md,
-        "| fabric | lookup ms/frame | lookup image error | paper at equal error | lookup faster by \
-         | paper at equal cost | lookup more accurate by | winner |"
-    );
-    let _ = writeln!(md, "|---|---:|---:|---|---:|---|---:|---|");
-    for f in &g.fabrics {
-        let Some(lookup) = f.lookup() else {
-            continue;
-        };
-        let paper: Vec<&super::gpu::GpuPoint> = f
-            .points
-            .iter()
-            .filter(|p| p.evaluation.is_paper())
-            .collect();
-        let points: Vec<(f64, f64)> = paper
-            .iter()
-            .map(|p| (p.ms_per_frame, p.image_relative_l2))
-            .collect();
-        let (error, cost) = (lookup.image_relative_l2, lookup.ms_per_frame);
-        let (equal_error, equal_cost, dominated) = super::dominance(error, cost, &points);
-        let n = |i: usize| paper_n(paper[i].evaluation);
-        let _ = writeln!(
-            md,
-            "| {} | {:.2} | {} | {} | {} | {} | {} | {} |",
-            f.name,
-            cost,
-            pct(error),
-            equal_error.map_or("none up to the largest N".into(), |i| format!(
-                "{} ({:.2} ms)",
-                n(i),
-                points[i].0
-            )),
-            ratio(equal_error.map(|i| points[i].0 / cost)),
-            equal_cost.map_or("none this cheap".into(), |i| format!(
-                "{} ({})",
-                n(i),
-                pct(points[i].1)
-            )),
-            ratio(equal_cost.map(|i| points[i].1 / error)),
-            if dominated { "paper mode" } else { "**table**" }
-        );
-    }
-    md.push('\n');
-    let _ = writeln!(
-        md,
-        "The resonant shader against the lookup (frame time ratio; image errors):\n\n\
-         | fabric | nodes | ms/frame | × lookup's frame | image error | lookup's image error |\n\
-         |---|---|---:|---:|---:|---:|"
-    );
-    for f in &g.fabrics {
-        let Some(lookup) = f.lookup() else {
-            continue;
-        };
-        for p in &f.points {
-            let Evaluation::Resonant { nodes } = p.evaluation else {
-                continue;
-            };
-            let _ = writeln!(
-                md,
-                "| {} | {nodes} | {:.2} | {:.1}× | {} | {} |",
-                f.name,
-                p.ms_per_frame,
-                p.ms_per_frame / lookup.ms_per_frame,
-                pct(p.image_relative_l2),
-                pct(lookup.image_relative_l2)
-            );
-        }
-    }
-    md.push('\n');
-    let _ = writeln!(md, "Every shader:\n");
-    let _ = writeln!(
-        md,
-        "| fabric | shader | ms/frame | image error | PSNR (dB) | reference (s) |"
-    );
-    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|");
-    for f in &g.fabrics {
-        for p in &f.points {
-            let shader = match p.evaluation {
-                table @ Evaluation::Table { .. } => format!("lookup ({table})"),
-                model => model.to_string(),
-            };
-            let _ = writeln!(
-                md,
-                "| {} | {shader} | {:.3} | {} | {:.1} | {:.1} |",
-                f.name,
-                p.ms_per_frame,
-                pct(p.image_relative_l2),
-                p.image_psnr_db,
-                f.reference_seconds
-            );
-        }
     }
     md.push('\n');
 }
