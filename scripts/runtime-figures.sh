@@ -7,7 +7,7 @@
 # machine's speed drifts over minutes, so the five renders of a fabric alternate, ROUNDS
 # times (default 3), and each figure is the median of its rounds' medians of FRAMES frames
 # (default 5). Ratios: whole frames, and BRDF work alone (frame − floor). The scene's lights
-# only (--env none): the environment light is measured by scripts/environment-figures.sh.
+# only (--env none): the environment light is measured by examples/environment_front.rs.
 # Needs the default tables (clothbake bake). With ALT_TABLES=DIR (tables of another layout,
 # e.g. `clothbake bake --layout split_frame --out DIR`), the lookup from those tables is
 # rendered in the same rounds and reported in three more columns (split_frame as `render`

@@ -9,8 +9,10 @@
 // vertex frame, re-orthonormalised; wi (to each light) and wo (to the eye) in that frame;
 // radiance L = Σ_lights E·F(wi, wo), with E = colour·irradiance for a directional light and
 // colour·I/d² for a point light (docs/model.md: a distant light of perpendicular irradiance E
-// gives L_o = E·F; F already holds every cosine), plus the environment light
-// ∫ L_env(wi) F(wi, wo) dwi by filtered importance sampling (`render_environment_light`).
+// gives L_o = E·F; F already holds every cosine), plus the environment light: its compact
+// bright sources (sun, lamps) are directional lights in the same list
+// (src/lighting/bright_sources.rs), and the rest of the map, ∫ L_residual(wi) F(wi, wo) dwi,
+// is integrated by filtered importance sampling (`render_environment_light`).
 // No shadows.
 //
 // Two-sided cloth: the side facing the viewer is shaded, judged by the interpolated normal
@@ -31,6 +33,7 @@ struct RenderLight {
 // `FrameUniform` in src/render/mod.rs.
 struct RenderFrameUniform {
     view_proj: mat4x4<f32>,
+    inverse_view_proj: mat4x4<f32>,
     // xyz: the eye position.
     eye: vec4<f32>,
     // x: exposure; y: 1 to encode the display output as sRGB in the shader (UNORM targets),
@@ -38,9 +41,11 @@ struct RenderFrameUniform {
     params: vec4<f32>,
     // x: number of lights; y: environment samples per pixel K (0: no environment light).
     counts: vec4<u32>,
-    // The environment map: x, y: level-0 width and height; z: mip levels.
+    // The environment map: x, y: level-0 width and height; z: mip levels; w: its rotation
+    // about +y, radians (the light from world direction d is the map's at R_y(−w)·d).
     environment: vec4<f32>,
-    lights: array<RenderLight, 8>,
+    // The scene's lights (at most 8), then the environment's sources (at most 8).
+    lights: array<RenderLight, 16>,
 }
 
 @group(1) @binding(0) var<uniform> render_frame: RenderFrameUniform;
@@ -120,9 +125,13 @@ fn to_local(f: ShadingFrame, w: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(w, f.t), dot(w, f.b), dot(w, f.n));
 }
 
-// The equirectangular coordinates of a world direction (+y up; u = 0.5 looks along −z), as
-// `clothbake::environment::equirect_uv`.
-fn render_environment_uv(d: vec3<f32>) -> vec2<f32> {
+// The equirectangular coordinates of the map's texel seen in world direction `world`: the
+// direction turned back by the environment's rotation, then mapped as
+// `clothbake::lighting::equirect_uv` (+y up; u = 0.5 looks along −z).
+fn render_environment_uv(world: vec3<f32>) -> vec2<f32> {
+    let c = cos(render_frame.environment.w);
+    let s = sin(render_frame.environment.w);
+    let d = vec3<f32>(c * world.x - s * world.z, world.y, s * world.x + c * world.z);
     let u = 0.5 + atan2(d.x, -d.z) * (0.5 / 3.14159265);
     let v = acos(clamp(d.y, -1.0, 1.0)) * (1.0 / 3.14159265);
     return vec2<f32>(u, v);
@@ -222,6 +231,34 @@ struct DisplayAndLinear {
 fn fs_display_linear(in: VertexOut) -> DisplayAndLinear {
     let radiance = render_radiance(in);
     return DisplayAndLinear(vec4<f32>(render_tonemap(radiance), 1.0), vec4<f32>(radiance, 1.0));
+}
+
+// The environment behind the cloth: a triangle covering the screen, drawn before the cloth,
+// each pixel the map's level-0 radiance along its camera ray, tone mapped (the display
+// target only: the linear target keeps radiance 0 and coverage 0 there).
+struct BackgroundOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) ndc: vec2<f32>,
+}
+
+@vertex
+fn vs_background(@builtin(vertex_index) index: u32) -> BackgroundOut {
+    let ndc = vec2<f32>(f32(index & 1u) * 4.0 - 1.0, f32(index >> 1u) * 4.0 - 1.0);
+    return BackgroundOut(vec4<f32>(ndc, 1.0, 1.0), ndc);
+}
+
+@fragment
+fn fs_background(in: BackgroundOut) -> @location(0) vec4<f32> {
+    // Any depth between the planes gives a point on the pixel's ray.
+    let point = render_frame.inverse_view_proj * vec4<f32>(in.ndc, 0.5, 1.0);
+    let ray = normalize(point.xyz / point.w - render_frame.eye.xyz);
+    let radiance = textureSampleLevel(
+        render_environment,
+        render_environment_sampler,
+        render_environment_uv(ray),
+        0.0,
+    ).rgb;
+    return vec4<f32>(render_tonemap(radiance), 1.0);
 }
 
 // The G-buffer of the CPU reference: what `render_radiance` starts from, per pixel.

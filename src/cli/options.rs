@@ -106,6 +106,7 @@ pub use runtime::*;
 /// Options of the commands that show a scene (`render`, `view`).
 #[cfg(feature = "runtime")]
 mod runtime {
+    use clothbake::lighting::bright_sources::MAX_SOURCES;
     use clothbake::lighting::{EnvironmentError, EnvironmentSource};
     use clothbake::scene::{MAX_ENVIRONMENT_SAMPLES, Scene, SceneError};
     use std::path::PathBuf;
@@ -150,14 +151,21 @@ mod runtime {
         /// OBJ mesh with UVs to show instead of the scene's (the camera is aimed at it).
         #[arg(long)]
         pub mesh: Option<PathBuf>,
-        /// Environment light: `default` (the built-in studio), `uniform` (radiance 1: the white
-        /// furnace), `none`, or an equirectangular .hdr or .exr file (default: the scene's).
+        /// Environment light: a built-in one, `default` or `studio` (soft boxes), `sky` (a clear
+        /// sky with a 0.5° sun), `overcast`, `interior` (windows and lamps); `uniform` (radiance
+        /// 1: the white furnace); `none`; or an equirectangular .hdr or .exr file (default: the
+        /// scene's).
         #[arg(long, value_parser = parse_environment)]
         env: Option<EnvironmentSource>,
         /// Filtered importance samples per pixel of the environment light (default: the
         /// scene's, 64 in the built-in scene).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_ENVIRONMENT_SAMPLES as i64))]
         env_samples: Option<u32>,
+        /// Most compact bright sources (sun, lamps) of the environment lit as directional
+        /// lights, the rest of the map sampled; 0 samples the whole map (default: the
+        /// scene's, 8).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(0..=MAX_SOURCES as i64))]
+        env_sources: Option<u32>,
         /// Switch the scene's lights off (the environment alone).
         #[arg(long)]
         no_lights: bool,
@@ -176,6 +184,9 @@ mod runtime {
             }
             if let Some(samples) = self.env_samples {
                 scene.environment.samples = samples;
+            }
+            if let Some(sources) = self.env_sources {
+                scene.environment.sources = sources as usize;
             }
             if self.no_lights {
                 scene.lights.clear();

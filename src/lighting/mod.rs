@@ -1,13 +1,21 @@
 //! Distant light: environment maps (equirectangular radiance with a prefiltered mip chain),
-//! the built-in studio, and where an environment comes from. Reading map files lives in
+//! the built-in environments (studio, sky, overcast, interior), and where an environment comes from. Reading map files lives in
 //! [`crate::formats::environment_map`], sampling a map in [`crate::sampling::environment`].
 
+pub mod bright_sources;
 pub mod environment;
+mod generated;
+pub mod interior;
+mod mip;
+pub mod sky;
 mod source;
 mod studio;
 
+pub use bright_sources::{DistantSource, SplitEnvironment};
 pub use environment::{
-    ClampedNegatives, ContentError, Environment, EnvironmentError, Level, MAX_SIDE, MAX_TEXELS,
+    ClampedNegatives, ContentError, Environment, EnvironmentError, MAX_SIDE, MAX_TEXELS,
     equirect_direction, equirect_uv,
 };
+pub use generated::GeneratedEnvironment;
+pub use mip::Level;
 pub use source::EnvironmentSource;

@@ -4,7 +4,7 @@ use std::fmt;
 use std::path::PathBuf;
 use std::str::FromStr;
 
-use super::{Environment, EnvironmentError};
+use super::{Environment, EnvironmentError, GeneratedEnvironment};
 
 /// Where the environment comes from: the CLI's `--env` word.
 #[derive(Debug, Clone, PartialEq)]
@@ -15,6 +15,9 @@ pub enum EnvironmentSource {
     Default,
     /// `uniform`: constant radiance 1, the white furnace ([`Environment::uniform`]).
     Uniform,
+    /// `studio`, `sky`, `overcast`, `interior`: a built-in environment
+    /// ([`GeneratedEnvironment`]; `studio` is what `default` names).
+    Generated(GeneratedEnvironment),
     /// Anything else: an `.hdr` or `.exr` file ([`Environment::load`]). A file named like
     /// one of the words above is written with a directory, `./default`.
     File(PathBuf),
@@ -27,6 +30,7 @@ impl EnvironmentSource {
             Self::None => None,
             Self::Default => Some(Environment::studio()),
             Self::Uniform => Some(Environment::uniform(1.0)),
+            Self::Generated(generated) => Some(generated.environment()),
             Self::File(path) => Some(Environment::load(path)?),
         })
     }
@@ -41,7 +45,10 @@ impl FromStr for EnvironmentSource {
             "none" => Self::None,
             "default" => Self::Default,
             "uniform" => Self::Uniform,
-            path => Self::File(PathBuf::from(path)),
+            word => match GeneratedEnvironment::from_name(word) {
+                Some(generated) => Self::Generated(generated),
+                None => Self::File(PathBuf::from(word)),
+            },
         })
     }
 }
@@ -53,9 +60,12 @@ impl fmt::Display for EnvironmentSource {
             Self::None => f.write_str("none"),
             Self::Default => f.write_str("default"),
             Self::Uniform => f.write_str("uniform"),
+            Self::Generated(generated) => f.write_str(generated.name()),
             Self::File(path) => {
                 let text = path.display().to_string();
-                if matches!(text.as_str(), "none" | "default" | "uniform") {
+                if matches!(text.as_str(), "none" | "default" | "uniform")
+                    || GeneratedEnvironment::from_name(&text).is_some()
+                {
                     write!(f, "./{text}")
                 } else {
                     f.write_str(&text)

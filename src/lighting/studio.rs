@@ -3,6 +3,8 @@
 
 use glam::DVec3;
 
+use super::generated::soft_lobe;
+
 /// One soft box of the studio: `peak·colour·exp(sharpness·(cos α − 1))`, α the angle from
 /// `towards`.
 struct SoftBox {
@@ -44,8 +46,7 @@ pub(crate) fn studio_radiance(d: DVec3) -> DVec3 {
     let mut radiance = floor.lerp(sky, t * t * (3.0 - 2.0 * t));
     for light in &STUDIO_LIGHTS {
         let cos_angle = d.dot(DVec3::from(light.towards).normalize());
-        radiance +=
-            DVec3::from(light.colour) * (light.peak * (light.sharpness * (cos_angle - 1.0)).exp());
+        radiance += DVec3::from(light.colour) * soft_lobe(cos_angle, light.sharpness, light.peak);
     }
     radiance
 }

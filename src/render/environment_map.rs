@@ -1,11 +1,14 @@
 //! The environment light on the GPU: an [`Environment`]'s mip chain as a filterable f16
-//! texture, and the render pass's lighting group (@group(2) of shaders/render/renderer.wgsl): that
-//! texture, its trilinear sampler and the fabric's importance sampler
-//! ([`crate::gpu::GpuSampler`]) that filtered importance sampling draws from.
+//! texture, the compact bright sources taken out of it as directional lights
+//! ([`crate::lighting::bright_sources`]), and the render pass's lighting group (@group(2) of
+//! shaders/render/renderer.wgsl): that texture, its trilinear sampler and the fabric's
+//! importance sampler ([`crate::gpu::GpuSampler`]) that filtered importance sampling draws
+//! from.
 
+use super::LightSource;
 use crate::gpu::sampler::sampler_entry;
 use crate::gpu::{GpuContext, GpuError, GpuSampler};
-use crate::lighting::Environment;
+use crate::lighting::{Environment, SplitEnvironment};
 use half::f16;
 
 /// Largest f16 value: brighter texels (the sun of a captured sky) are clamped to it.
@@ -15,11 +18,19 @@ const F16_MAX: f32 = 65504.0;
 /// number of mip levels.
 pub type EnvironmentDimensions = [u32; 3];
 
-/// An environment map uploaded for rendering: its mip chain.
+/// What a frame's uniform takes of the environment: the map's sizes, and the sources taken
+/// out of it, lit as directional lights beside the scene's.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EnvironmentFrame {
+    pub dimensions: EnvironmentDimensions,
+    pub sources: Vec<LightSource>,
+}
+
+/// An environment map uploaded for rendering: its mip chain, and the sources taken out of it.
 pub struct GpuEnvironment {
     view: wgpu::TextureView,
     sampler: wgpu::Sampler,
-    dimensions: EnvironmentDimensions,
+    frame: EnvironmentFrame,
 }
 
 impl GpuEnvironment {
@@ -93,8 +104,25 @@ impl GpuEnvironment {
         Ok(Self {
             view,
             sampler,
-            dimensions: [width, height, levels.len() as u32],
+            frame: EnvironmentFrame {
+                dimensions: [width, height, levels.len() as u32],
+                sources: Vec::new(),
+            },
         })
+    }
+
+    /// Uploads the residual of a split map, and keeps its sources as directional lights.
+    pub fn split(context: &GpuContext, split: &SplitEnvironment) -> Result<Self, GpuError> {
+        let mut environment = Self::new(context, &split.residual)?;
+        environment.frame.sources = split
+            .sources
+            .iter()
+            .map(|source| LightSource::Directional {
+                direction: source.direction.as_vec3(),
+                irradiance: source.irradiance.as_vec3(),
+            })
+            .collect();
+        Ok(environment)
     }
 
     /// A black 1×1 map: the lighting group's content when there is no environment.
@@ -104,9 +132,9 @@ impl GpuEnvironment {
         Self::new(context, &black)
     }
 
-    /// The sizes the frame uniform passes to the shader.
-    pub fn dimensions(&self) -> EnvironmentDimensions {
-        self.dimensions
+    /// What the frame uniform passes to the shader.
+    pub fn frame(&self) -> &EnvironmentFrame {
+        &self.frame
     }
 }
 

@@ -3,8 +3,9 @@
 //! shaders/render/renderer.wgsl. The packing is private to the renderer; only its layout has
 //! to match the WGSL.
 
-use super::environment_map::EnvironmentDimensions;
+use super::environment_map::EnvironmentFrame;
 use super::{Camera, LightSource};
+use crate::lighting::bright_sources::MAX_SOURCES;
 use crate::scene::{MAX_LIGHTS, Scene};
 use bytemuck::{Pod, Zeroable};
 
@@ -21,6 +22,9 @@ pub struct FrameSettings {
     /// Samples per pixel of the environment light (filtered importance sampling, see
     /// shaders/render/renderer.wgsl); 0: no environment light.
     pub environment_samples: u32,
+    /// The environment's rotation about +y, radians: the light arriving from world direction
+    /// `d` is the map's from `R_y(−rotation)·d`.
+    pub environment_rotation: f32,
 }
 
 /// The default background: dark grey.
@@ -38,9 +42,14 @@ impl FrameSettings {
                 crate::lighting::EnvironmentSource::None => 0,
                 _ => scene.environment.samples,
             },
+            environment_rotation: 0.0,
         }
     }
 }
+
+/// Lights a frame holds: the scene's, then the sources taken out of its environment
+/// (WGSL `RenderFrameUniform::lights`).
+const FRAME_LIGHTS: usize = MAX_LIGHTS + MAX_SOURCES;
 
 /// One light of [`FrameUniform`] (WGSL `RenderLight`).
 #[repr(C)]
@@ -55,32 +64,54 @@ struct LightUniform {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub(super) struct FrameUniform {
     view_proj: [[f32; 4]; 4],
+    inverse_view_proj: [[f32; 4]; 4],
     eye: [f32; 4],
     params: [f32; 4],
     counts: [u32; 4],
     environment: [f32; 4],
-    lights: [LightUniform; MAX_LIGHTS],
+    lights: [LightUniform; FRAME_LIGHTS],
 }
 
 impl FrameUniform {
-    /// `environment`: the sizes of the environment map in the lighting group, if it holds
-    /// one (without, the frame has no environment light).
+    /// `environment`: the environment map in the lighting group and its sources, if it holds
+    /// one (without, the frame has no environment light). The sources are lit with the
+    /// environment, after the scene's lights.
     pub(super) fn new(
         settings: &FrameSettings,
         aspect: f32,
         encode_srgb: bool,
-        environment: Option<EnvironmentDimensions>,
+        environment: Option<&EnvironmentFrame>,
     ) -> Self {
         let samples = if environment.is_some() {
             settings.environment_samples
         } else {
             0
         };
-        let environment = environment.unwrap_or_default();
-        let mut lights = [LightUniform::default(); MAX_LIGHTS];
-        let count = settings.lights.len().min(MAX_LIGHTS);
-        for (slot, light) in lights.iter_mut().zip(&settings.lights) {
-            *slot = match *light {
+        let environment = environment.cloned().unwrap_or_default();
+        let sources = if samples > 0 {
+            &environment.sources[..environment.sources.len().min(MAX_SOURCES)]
+        } else {
+            &[]
+        };
+        let scene_lights = &settings.lights[..settings.lights.len().min(MAX_LIGHTS)];
+        let mut lights = [LightUniform::default(); FRAME_LIGHTS];
+        let count = scene_lights.len() + sources.len();
+        let turn = glam::Quat::from_rotation_y(settings.environment_rotation);
+        let turned = sources.iter().map(|source| match *source {
+            LightSource::Directional {
+                direction,
+                irradiance,
+            } => LightSource::Directional {
+                direction: turn * direction,
+                irradiance,
+            },
+            point => point,
+        });
+        for (slot, light) in lights
+            .iter_mut()
+            .zip(scene_lights.iter().copied().chain(turned))
+        {
+            *slot = match light {
                 LightSource::Directional {
                     direction,
                     irradiance,
@@ -97,16 +128,18 @@ impl FrameUniform {
                 },
             };
         }
+        let view_proj = settings.camera.view_proj(aspect);
         Self {
-            view_proj: settings.camera.view_proj(aspect).to_cols_array_2d(),
+            view_proj: view_proj.to_cols_array_2d(),
+            inverse_view_proj: view_proj.inverse().to_cols_array_2d(),
             eye: settings.camera.eye.extend(1.0).to_array(),
             params: [settings.exposure, encode_srgb as u32 as f32, 0.0, 0.0],
             counts: [count as u32, samples, 0, 0],
             environment: [
-                environment[0] as f32,
-                environment[1] as f32,
-                environment[2] as f32,
-                0.0,
+                environment.dimensions[0] as f32,
+                environment.dimensions[1] as f32,
+                environment.dimensions[2] as f32,
+                settings.environment_rotation,
             ],
             lights,
         }

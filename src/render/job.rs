@@ -150,26 +150,32 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     };
     let context = GpuContext::new()?;
     say(&format!("adapter: {}", context.adapter));
-    let gpu_environment = environment
-        .as_ref()
-        .map(|map| GpuEnvironment::new(&context, map))
-        .transpose()?;
-    if let Some(map) = &environment {
-        say(&format!(
-            "environment {} ({}×{}, {} mip levels): {} filtered importance samples per pixel",
-            job.scene.environment.source,
-            map.width(),
-            map.height(),
-            map.levels().len(),
-            settings.environment_samples
-        ));
-        if let Some(clamped) = map.clamped_negatives() {
+    let gpu_environment = match &environment {
+        Some(map) => {
+            let start = Instant::now();
+            let split = map.split_bright_sources(job.scene.environment.sources);
+            let split_seconds = start.elapsed().as_secs_f64();
             say(&format!(
-                "environment {}: {clamped}",
-                job.scene.environment.source
+                "environment {} ({}×{}, {} mip levels): {}; then {} filtered importance samples \
+                 per pixel of the rest (split in {:.2} s)",
+                job.scene.environment.source,
+                map.width(),
+                map.height(),
+                map.levels().len(),
+                split,
+                settings.environment_samples,
+                split_seconds
             ));
+            if let Some(clamped) = map.clamped_negatives() {
+                say(&format!(
+                    "environment {}: {clamped}",
+                    job.scene.environment.source
+                ));
+            }
+            Some(GpuEnvironment::split(&context, &split)?)
         }
-    }
+        None => None,
+    };
     let several = fabrics.len() > 1;
     let mut headless: Option<Headless> = None;
     let mut results = Vec::new();

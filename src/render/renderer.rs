@@ -4,9 +4,7 @@
 //! read-back, so that the viewer and [`super::Headless`] share it.
 
 use super::FrameSettings;
-use super::environment_map::{
-    EnvironmentDimensions, GpuEnvironment, lighting_group, lighting_layout,
-};
+use super::environment_map::{EnvironmentFrame, GpuEnvironment, lighting_group, lighting_layout};
 use super::frame::FrameUniform;
 use super::headless::target;
 use super::image;
@@ -91,6 +89,10 @@ pub struct GBufferTargets<'a> {
 struct Pipelines {
     display: wgpu::RenderPipeline,
     display_linear: Option<wgpu::RenderPipeline>,
+    /// The environment behind the cloth, into the display target alone (the linear target,
+    /// where the pass has one, is declared with an empty write mask).
+    background: wgpu::RenderPipeline,
+    background_linear: Option<wgpu::RenderPipeline>,
 }
 
 /// The cloth render pipeline: a mesh, a [`GpuBrdf`], the uniforms of a frame.
@@ -117,7 +119,7 @@ pub struct Renderer {
     /// [`GpuEnvironment::dimensions`] of the map in `lighting_group`; `None` until
     /// [`Renderer::set_environment`] (frames then have no environment light, whatever their
     /// settings ask).
-    environment: Option<EnvironmentDimensions>,
+    environment: Option<EnvironmentFrame>,
     /// The current BRDF's pipelines (set by `new`), kept out of the map so that a frame
     /// does not hash the shader source to find them.
     current: Option<Pipelines>,
@@ -238,6 +240,25 @@ impl Renderer {
                             &[Some(display.clone()), Some(format.into())],
                         )
                     }),
+                    background: self.background_pipeline(
+                        context,
+                        &module,
+                        layout,
+                        &[Some(display.clone())],
+                    ),
+                    background_linear: self.linear_format.map(|format| {
+                        let untouched = wgpu::ColorTargetState {
+                            format,
+                            blend: None,
+                            write_mask: wgpu::ColorWrites::empty(),
+                        };
+                        self.background_pipeline(
+                            context,
+                            &module,
+                            layout,
+                            &[Some(display.clone()), Some(untouched)],
+                        )
+                    }),
                 }
             })?;
             self.current = Some(pipelines.clone());
@@ -259,7 +280,7 @@ impl Renderer {
     ) -> Result<(), GpuError> {
         self.lighting_group = context
             .checked(|| lighting_group(context, &self.lighting_layout, environment, sampler))?;
-        self.environment = Some(environment.dimensions());
+        self.environment = Some(environment.frame().clone());
         Ok(())
     }
 
@@ -332,14 +353,68 @@ impl Renderer {
         })
     }
 
+    /// The pipeline drawing the environment behind the cloth: one triangle over the screen,
+    /// no vertex buffer, depth neither tested nor written (it is drawn first).
+    fn background_pipeline(
+        &self,
+        context: &GpuContext,
+        module: &wgpu::ShaderModule,
+        brdf_layout: Option<&wgpu::BindGroupLayout>,
+        targets: &[Option<wgpu::ColorTargetState>],
+    ) -> wgpu::RenderPipeline {
+        let device = &context.device;
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("background"),
+            bind_group_layouts: &[
+                brdf_layout,
+                Some(&self.frame_layout),
+                Some(&self.lighting_layout),
+            ],
+            immediate_size: 0,
+        });
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("fs_background"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some("vs_background"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some("fs_background"),
+                compilation_options: Default::default(),
+                targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
     fn write_uniforms(&self, queue: &wgpu::Queue, settings: &FrameSettings, size: (u32, u32)) {
         let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
-        let uniform = FrameUniform::new(settings, aspect, self.encode_srgb, self.environment);
+        let uniform = FrameUniform::new(
+            settings,
+            aspect,
+            self.encode_srgb,
+            self.environment.as_ref(),
+        );
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&uniform));
     }
 
     /// Records one frame: clears the targets (colour to `settings.background`, linear
-    /// radiance and coverage to 0, depth to 1) and draws the cloth. The frame's uniforms
+    /// radiance and coverage to 0, depth to 1), draws the environment behind the cloth when
+    /// it lights the frame, and draws the cloth. The frame's uniforms
     /// are written through `queue` and take effect at the next submit, so submit each frame
     /// before encoding the next. `timestamps` brackets the pass with GPU timestamp writes.
     pub fn encode(
@@ -392,6 +467,20 @@ impl Renderer {
             multiview_mask: None,
         });
         let pipelines = self.current.as_ref().expect("Renderer::new sets a BRDF");
+        pass.set_bind_group(0, &self.brdf_group, &[]);
+        pass.set_bind_group(1, &self.frame_group, &[]);
+        pass.set_bind_group(2, &self.lighting_group, &[]);
+        if self.environment.is_some() && settings.environment_samples > 0 {
+            let background = match targets.linear {
+                Some(_) => pipelines
+                    .background_linear
+                    .as_ref()
+                    .expect("a linear target needs a renderer made with a linear output"),
+                None => &pipelines.background,
+            };
+            pass.set_pipeline(background);
+            pass.draw(0..3, 0..1);
+        }
         let pipeline = match targets.linear {
             Some(_) => pipelines
                 .display_linear
@@ -400,9 +489,6 @@ impl Renderer {
             None => &pipelines.display,
         };
         pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &self.brdf_group, &[]);
-        pass.set_bind_group(1, &self.frame_group, &[]);
-        pass.set_bind_group(2, &self.lighting_group, &[]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.index_count, 0, 0..1);

@@ -28,8 +28,9 @@
 //! color = [1.0, 0.85, 0.7]
 //! intensity = 3.0                   # I: irradiance E = I/d² at distance d
 //! [environment]                     # optional: distant light from everywhere
-//! source = "default"                # default (built-in studio) | uniform | none | FILE.hdr/.exr
+//! source = "default"                # default (studio) | sky | overcast | interior | uniform | none | FILE.hdr/.exr
 //! samples = 64                      # filtered importance samples per pixel, 1 to 1024
+//! sources = 8                       # bright sources lit as lights, 0 to 8 (0: all sampled)
 //! [mesh]                            # optional: the cloth (default: draped over a sphere)
 //! kind = "drape"                    # "drape" | "curtain" | "plane" | "obj"
 //! resolution = 160                  # grid quads per side (procedural kinds), [2, 1024]
@@ -39,8 +40,13 @@
 //! ```
 
 pub mod mesh;
+mod validate;
+
+pub use validate::{SceneError, SceneParseError};
+use validate::{check_color, check_range, check_vector, field_error};
 
 use crate::lighting::EnvironmentSource;
+use crate::lighting::bright_sources::MAX_SOURCES;
 use crate::table::Layout;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -50,59 +56,6 @@ pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 20;
 
 /// The built-in scene, `tables/scene.toml`.
 pub const BUILTIN_SCENE_TOML: &str = include_str!("../../tables/scene.toml");
-
-/// What is wrong with a scene's text: TOML that does not read as a scene, or a field outside
-/// what clothbake accepts.
-#[derive(Debug, thiserror::Error)]
-pub enum SceneParseError {
-    #[error("{0}")]
-    Toml(#[from] toml::de::Error),
-    #[error("field '{field}': {message}")]
-    Field { field: String, message: String },
-}
-
-fn field_error(field: impl Into<String>, message: impl Into<String>) -> SceneParseError {
-    SceneParseError::Field {
-        field: field.into(),
-        message: message.into(),
-    }
-}
-
-fn check_range(field: &str, value: f64, lo: f64, hi: f64) -> Result<(), SceneParseError> {
-    if value.is_finite() && (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(field_error(
-            field,
-            format!("must be a number in [{lo}, {hi}], got {value}"),
-        ))
-    }
-}
-
-fn check_vector(field: &str, value: [f64; 3], bound: f64) -> Result<(), SceneParseError> {
-    if value.iter().all(|v| v.is_finite() && v.abs() <= bound) {
-        Ok(())
-    } else {
-        Err(field_error(
-            field,
-            format!("every component must be a finite number within ±{bound}, got {value:?}"),
-        ))
-    }
-}
-
-fn check_color(field: &str, value: [f64; 3]) -> Result<(), SceneParseError> {
-    if value
-        .iter()
-        .all(|v| v.is_finite() && (0.0..=1e6).contains(v))
-    {
-        Ok(())
-    } else {
-        Err(field_error(
-            field,
-            format!("every component must be in [0, 1e6], got {value:?}"),
-        ))
-    }
-}
 
 /// What a scene asks of the baker.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -240,12 +193,15 @@ pub const MAX_ENVIRONMENT_SAMPLES: u32 = 1024;
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct EnvironmentSpec {
-    /// `default`, `uniform`, `none` or a file (comes back from [`Scene::load`] resolved
+    /// `default`, a built-in environment's name, `uniform`, `none` or a file (comes back from [`Scene::load`] resolved
     /// against the scene's directory).
     #[serde(deserialize_with = "environment_source")]
     pub source: EnvironmentSource,
     /// Filtered importance samples per pixel, 1 to [`MAX_ENVIRONMENT_SAMPLES`].
     pub samples: u32,
+    /// Most compact bright sources (sun, lamps) taken out of the map and lit as directional
+    /// lights, 0 to [`MAX_SOURCES`] (0: the whole map is sampled).
+    pub sources: usize,
 }
 
 impl Default for EnvironmentSpec {
@@ -253,6 +209,7 @@ impl Default for EnvironmentSpec {
         Self {
             source: EnvironmentSource::Default,
             samples: DEFAULT_ENVIRONMENT_SAMPLES,
+            sources: MAX_SOURCES,
         }
     }
 }
@@ -303,23 +260,6 @@ pub const MAX_FOLDS: u32 = 64;
 pub struct Budget {
     pub max_error: Option<f64>,
     pub max_bytes_per_fabric: Option<u64>,
-}
-
-/// Why a scene file was rejected.
-#[derive(Debug, thiserror::Error)]
-pub enum SceneError {
-    #[error("scene file {path}: {source}")]
-    Read {
-        path: PathBuf,
-        source: std::io::Error,
-    },
-    #[error("scene file {path}: is {size} bytes, over the {MAX_SCENE_FILE_BYTES}-byte limit")]
-    TooLarge { path: PathBuf, size: u64 },
-    #[error("scene file {path}: {source}")]
-    Invalid {
-        path: PathBuf,
-        source: SceneParseError,
-    },
 }
 
 impl Scene {
@@ -410,6 +350,15 @@ impl Scene {
                 format!(
                     "must be in 1..={MAX_ENVIRONMENT_SAMPLES}, got {}",
                     self.environment.samples
+                ),
+            ));
+        }
+        if self.environment.sources > MAX_SOURCES {
+            return Err(field_error(
+                "environment.sources",
+                format!(
+                    "must be in 0..={MAX_SOURCES}, got {}",
+                    self.environment.sources
                 ),
             ));
         }

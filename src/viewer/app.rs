@@ -14,7 +14,7 @@ use crate::evaluator::table::load_fabric_table;
 use crate::evaluator::{EvaluationContext, GpuOptions};
 use crate::formats::table_exr::TableFile;
 use crate::gpu::{GpuContext, GpuSampler};
-use crate::lighting::Environment;
+use crate::lighting::SplitEnvironment;
 use crate::model::Fabric;
 use crate::render::{Camera, FrameSettings, FrameTargets, GpuEnvironment, LightSource, Renderer};
 use crate::scene::Scene;
@@ -36,8 +36,9 @@ const TITLE_PERIOD: Duration = Duration::from_millis(250);
 /// What [`super::run`] prepared.
 pub(super) struct Setup {
     pub scene: Scene,
-    /// The scene's environment light (key E switches it off and on).
-    pub environment: Option<Environment>,
+    /// The scene's environment light, split into its bright sources and the rest (key E
+    /// switches it off and on).
+    pub environment: Option<SplitEnvironment>,
     pub mesh: Mesh,
     /// The fabrics Tab and 1–9 move through.
     pub fabrics: Vec<Fabric>,
@@ -98,6 +99,8 @@ struct App {
     samples: u32,
     /// Whether the environment light is on (there is one and key E has not switched it off).
     environment_on: bool,
+    /// The environment's rotation about +y, degrees (keys `[` and `]`).
+    environment_rotation_deg: f64,
     current: usize,
     shift: bool,
     dragging: bool,
@@ -117,6 +120,7 @@ impl App {
             shading: Shading::Lookup,
             samples: setup.samples,
             environment_on: setup.environment.is_some(),
+            environment_rotation_deg: 0.0,
             current: setup.first,
             shift: false,
             dragging: false,
@@ -189,7 +193,7 @@ impl App {
             .setup
             .environment
             .as_ref()
-            .map(|map| GpuEnvironment::new(&gpu, map))
+            .map(|split| GpuEnvironment::split(&gpu, split))
             .transpose()?;
         let renderer = Renderer::new(
             &gpu,
@@ -356,6 +360,13 @@ impl App {
                     self.show_or_report(index, shading, samples);
                 }
             }
+            Action::RotateEnvironment(degrees) => {
+                self.environment_rotation_deg = (self.environment_rotation_deg + degrees) % 360.0;
+                println!(
+                    "clothbake view: environment turned to {:.0}°",
+                    self.environment_rotation_deg
+                );
+            }
             Action::ResetView => {
                 self.orbit.reset();
                 self.light.reset();
@@ -380,6 +391,7 @@ impl App {
             } else {
                 0
             },
+            environment_rotation: self.environment_rotation_deg.to_radians() as f32,
         }
     }
 

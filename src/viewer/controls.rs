@@ -26,6 +26,8 @@ pub const LIGHT_ELEVATION_STEP_DEG: f64 = 5.0;
 pub const MAX_LIGHT_ELEVATION_DEG: f64 = 85.0;
 /// Azimuth speed of the spinning light (L), degrees per second.
 pub const LIGHT_SPIN_DEG_PER_S: f64 = 45.0;
+/// Environment rotation about +y per `[` / `]` press.
+pub const ENVIRONMENT_STEP_DEG: f64 = 15.0;
 /// Paper-mode samples per thread of the direct shader: the range `+`/`-` move within.
 pub const MIN_SAMPLES: u32 = 1;
 pub const MAX_SAMPLES: u32 = 1024;
@@ -35,7 +37,7 @@ pub const KEY_HELP: &str = "\
 keys: left-drag orbit, wheel zoom, Tab / Shift+Tab next / previous fabric, 1-9 fabric,
       Left/Right/Up/Down move the light, L spin the light, D lookup / direct shading,
       G lookup / resonant shading, + / - direct shader samples (x2 / /2), E environment
-      light on / off, R reset view, Esc or Q quit";
+      light on / off, [ / ] turn the environment, R reset view, Esc or Q quit";
 
 /// What a key press asks for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -59,6 +61,8 @@ pub enum Action {
     Samples(bool),
     /// Switch the environment light off or on.
     ToggleEnvironment,
+    /// Turn the environment (light and background) about +y by this many degrees.
+    RotateEnvironment(f64),
     ResetView,
 }
 
@@ -99,6 +103,8 @@ pub fn action_for_key(key: &Key, shift: bool) -> Option<Action> {
                 'g' => Some(Action::ToggleResonant),
                 'e' => Some(Action::ToggleEnvironment),
                 'r' => Some(Action::ResetView),
+                '[' => Some(Action::RotateEnvironment(-ENVIRONMENT_STEP_DEG)),
+                ']' => Some(Action::RotateEnvironment(ENVIRONMENT_STEP_DEG)),
                 // `=` is `+` without Shift on US layouts.
                 '+' | '=' => Some(Action::Samples(true)),
                 '-' | '_' => Some(Action::Samples(false)),
@@ -385,6 +391,14 @@ mod tests {
             Some(Action::Samples(false))
         );
         assert_eq!(action_for_key(&ch("r"), false), Some(Action::ResetView));
+        assert_eq!(
+            action_for_key(&ch("["), false),
+            Some(Action::RotateEnvironment(-ENVIRONMENT_STEP_DEG))
+        );
+        assert_eq!(
+            action_for_key(&ch("]"), false),
+            Some(Action::RotateEnvironment(ENVIRONMENT_STEP_DEG))
+        );
         assert_eq!(action_for_key(&ch("dd"), false), None);
         assert_eq!(action_for_key(&ch("x"), false), None);
         assert_eq!(

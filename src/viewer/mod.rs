@@ -176,6 +176,16 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
             scene.environment.source
         );
     }
+    let environment = environment.map(|map| {
+        let start = std::time::Instant::now();
+        let split = map.split_bright_sources(scene.environment.sources);
+        eprintln!(
+            "clothbake view: environment {}: {split} (split in {:.2} s)",
+            scene.environment.source,
+            start.elapsed().as_secs_f64()
+        );
+        split
+    });
     app::run(
         app::Setup {
             environment,

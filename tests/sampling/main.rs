@@ -9,5 +9,6 @@ mod chi2;
 #[path = "../common/mod.rs"]
 mod common;
 
+mod bright_sources;
 mod environment;
 mod sampler;
