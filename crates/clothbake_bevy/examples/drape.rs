@@ -5,7 +5,10 @@
 //!
 //! The scene is clothbake's default one: its key and point lights (casting Bevy shadows) and
 //! the built-in studio environment as an `EnvironmentMapLight` (16 importance samples per
-//! fragment, for speed; `clothbake render` uses 64).
+//! fragment, for speed; `clothbake render` uses 64). `--env WORD` takes another environment,
+//! as `clothbake render --env` does (`sky`, `overcast`, `interior`, or an `.hdr`/`.exr` file):
+//! its compact bright sources (a sun, lamps) are directional lights (`source_lights`) and the
+//! rest of the map is the `EnvironmentMapLight`.
 //!
 //! Keys: 1–6 or Tab choose the fabric; drag with the left mouse button or use the arrow keys
 //! to orbit, the mouse wheel or +/− to zoom; Space stops or starts the moving light; E turns
@@ -21,10 +24,12 @@ use bevy::render::extract_plugin::MainWorld;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured, save_to_disk};
 use bevy::render::{ExtractSchedule, RenderApp};
+use clothbake::lighting::EnvironmentSource;
+use clothbake::lighting::bright_sources::MAX_SOURCES;
 use clothbake::scene::Scene;
 use clothbake_bevy::{
     ClothMaterial, ClothPlugin, ClothTable, SceneLight, cloth_mesh, environment_cubemap,
-    scene_light,
+    scene_light, source_lights,
 };
 
 #[derive(Resource)]
@@ -32,7 +37,18 @@ struct Options {
     frames: Option<u32>,
     screenshot: Option<String>,
     fabric: Option<String>,
+    environment: EnvironmentSource,
 }
+
+/// The environment map light (the map's residual once its sources are split off), kept so
+/// that E can put it back.
+#[derive(Resource)]
+struct EnvironmentLight(EnvironmentMapLight);
+
+/// A directional light standing for one of the environment's bright sources (E switches it
+/// with the map).
+#[derive(Component)]
+struct SourceLight;
 
 #[derive(Resource)]
 struct Fabrics {
@@ -79,6 +95,7 @@ fn main() -> AppExit {
         frames: None,
         screenshot: None,
         fabric: None,
+        environment: EnvironmentSource::Default,
     };
     let mut tables = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tables");
     let mut args = std::env::args().skip(1);
@@ -90,6 +107,10 @@ fn main() -> AppExit {
             },
             ("--screenshot", Some(path)) => options.screenshot = Some(path),
             ("--fabric", Some(name)) => options.fabric = Some(name),
+            ("--env", Some(word)) => match word.parse() {
+                Ok(source) => options.environment = source,
+                Err(e) => return usage(&format!("--env {word}: {e}")),
+            },
             // Bevy resolves a relative asset root against the executable's directory.
             ("--tables", Some(dir)) => match std::path::absolute(&dir) {
                 Ok(dir) => tables = dir,
@@ -130,7 +151,7 @@ fn main() -> AppExit {
 
 fn usage(problem: &str) -> AppExit {
     eprintln!(
-        "drape: {problem}\nusage: drape [--frames N] [--screenshot FILE.png] [--tables DIR] [--fabric NAME]"
+        "drape: {problem}\nusage: drape [--frames N] [--screenshot FILE.png] [--tables DIR] [--fabric NAME] [--env WORD]"
     );
     AppExit::error()
 }
@@ -196,23 +217,27 @@ fn setup(
         yaw: (camera.yaw_deg as f32).to_radians(),
         pitch: (camera.pitch_deg as f32).to_radians(),
     };
-    commands.spawn((
-        Camera3d::default(),
-        Projection::Perspective(PerspectiveProjection {
-            fov: (camera.fov_y_deg as f32).to_radians(),
-            ..default()
-        }),
-        orbit_transform(&orbit),
-        orbit,
-        // Bevy's default exposure is for sunlight; the scene's irradiances are near 1:
-        // exposure 2^(−ev100)/1.2 = 1, as `clothbake render`'s default scene.
-        bevy::camera::Exposure {
-            ev100: -(1.2f32.log2()),
-        },
-        // The ACES fit clothbake's renderer uses, and one that needs no lookup-table feature.
-        bevy::core_pipeline::tonemapping::Tonemapping::AcesFitted,
-        studio_light(&mut images),
-    ));
+    let camera_entity = commands
+        .spawn((
+            Camera3d::default(),
+            Projection::Perspective(PerspectiveProjection {
+                fov: (camera.fov_y_deg as f32).to_radians(),
+                ..default()
+            }),
+            orbit_transform(&orbit),
+            orbit,
+            // Bevy's default exposure is for sunlight; the scene's irradiances are near 1:
+            // exposure 2^(−ev100)/1.2 = 1, as `clothbake render`'s default scene.
+            bevy::camera::Exposure {
+                ev100: -(1.2f32.log2()),
+            },
+            // The ACES fit clothbake's renderer uses, and one that needs no lookup-table feature.
+            bevy::core_pipeline::tonemapping::Tonemapping::AcesFitted,
+        ))
+        .id();
+    if let Some(light) = environment_light(&mut commands, &mut images, &options.environment) {
+        commands.entity(camera_entity).insert(light);
+    }
 
     // The scene's lights, casting shadows.
     for light in &scene.lights {
@@ -238,18 +263,34 @@ fn setup(
     }
 }
 
-/// clothbake's built-in studio as the view's environment map light.
-fn studio_light(images: &mut Assets<Image>) -> EnvironmentMapLight {
-    let cubemap = images.add(environment_cubemap(
-        &clothbake::lighting::Environment::studio(),
-        128,
-    ));
-    EnvironmentMapLight {
+/// The environment as the view's environment map light, and its bright sources as
+/// directional lights. A file that does not load is reported and the view stays unlit by it.
+fn environment_light(
+    commands: &mut Commands,
+    images: &mut Assets<Image>,
+    source: &EnvironmentSource,
+) -> Option<EnvironmentMapLight> {
+    let map = match source.load() {
+        Ok(map) => map?,
+        Err(e) => {
+            eprintln!("drape: {e}");
+            return None;
+        }
+    };
+    let split = map.split_bright_sources(MAX_SOURCES);
+    println!("drape: environment {source}: {split}");
+    for (light, transform) in source_lights(&split) {
+        commands.spawn((light, transform, SourceLight));
+    }
+    let cubemap = images.add(environment_cubemap(&split.residual, 128));
+    let light = EnvironmentMapLight {
         diffuse_map: cubemap.clone(),
         specular_map: cubemap,
         intensity: 1.0,
         ..default()
-    }
+    };
+    commands.insert_resource(EnvironmentLight(light.clone()));
+    Some(light)
 }
 
 fn orbit_transform(orbit: &Orbit) -> Transform {
@@ -295,9 +336,13 @@ fn choose_fabric(
 fn toggle_environment(
     mut commands: Commands,
     keys: Res<ButtonInput<KeyCode>>,
-    mut images: ResMut<Assets<Image>>,
+    environment: Option<Res<EnvironmentLight>>,
     cameras: Query<(Entity, Has<EnvironmentMapLight>), With<Camera3d>>,
+    mut sources: Query<&mut Visibility, With<SourceLight>>,
 ) {
+    let Some(environment) = environment else {
+        return;
+    };
     if !keys.just_pressed(KeyCode::KeyE) {
         return;
     }
@@ -305,7 +350,14 @@ fn toggle_environment(
         if lit {
             commands.entity(camera).remove::<EnvironmentMapLight>();
         } else {
-            commands.entity(camera).insert(studio_light(&mut images));
+            commands.entity(camera).insert(environment.0.clone());
+        }
+        for mut visibility in &mut sources {
+            *visibility = if lit {
+                Visibility::Hidden
+            } else {
+                Visibility::Inherited
+            };
         }
         println!(
             "drape: environment light {}",

@@ -31,7 +31,9 @@
 //!   not supported.
 //! - [`environment_cubemap`] turns a clothbake environment map (the studio, or an
 //!   equirectangular `.hdr`/`.exr`) into a cubemap for Bevy's `EnvironmentMapLight`.
-//! - [`scene_light`] turns a clothbake scene light into a Bevy light in Bevy's units.
+//! - [`scene_light`] turns a clothbake scene light into a Bevy light in Bevy's units, and
+//!   [`source_lights`] the bright sources of a split environment map (its sun, lamps) into
+//!   directional lights, to light beside the map's residual as `clothbake render` does.
 //! - [`cloth_mesh`] turns a clothbake mesh (procedural drape, curtain, plane, or an OBJ) into
 //!   a Bevy mesh with the thread frame in its tangents.
 //!
@@ -45,7 +47,7 @@ mod mesh;
 mod table_asset;
 
 pub use environment::environment_cubemap;
-pub use lights::{POINT_LIGHT_RANGE, SceneLight, scene_light};
+pub use lights::{POINT_LIGHT_RANGE, SceneLight, scene_light, source_lights};
 pub use material::{ClothMaterial, ClothMaterialKey, DEFAULT_ENVIRONMENT_SAMPLES};
 pub use mesh::cloth_mesh;
 pub use table_asset::{ALBEDO_SAMPLES, ClothTable, ClothTableError, ClothTableLoader};

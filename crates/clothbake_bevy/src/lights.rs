@@ -1,6 +1,7 @@
 //! clothbake scene lights as Bevy lights.
 
 use bevy::prelude::*;
+use clothbake::lighting::SplitEnvironment;
 use clothbake::scene::Light;
 
 /// A clothbake scene light ([`clothbake::scene::Light`]) as a Bevy light and its transform.
@@ -51,4 +52,31 @@ pub fn scene_light(light: &Light) -> SceneLight {
             Transform::from_translation(vector(position)),
         ),
     }
+}
+
+/// The compact bright sources of a split environment map (the sun, lamps:
+/// `Environment::split_bright_sources`) as Bevy directional lights in the units of
+/// [`scene_light`], without shadows. Light the view with them and with the split's residual as
+/// the `EnvironmentMapLight` ([`crate::environment_cubemap`] of `split.residual`), as
+/// `clothbake render` does: the residual is sampled, the sources are looked up once each.
+pub fn source_lights(split: &SplitEnvironment) -> Vec<(DirectionalLight, Transform)> {
+    split
+        .sources
+        .iter()
+        .map(|source| {
+            let irradiance = source.irradiance.as_vec3();
+            // Bevy's light is colour × illuminance: the brightest channel as illuminance.
+            let illuminance = irradiance.max_element().max(f32::MIN_POSITIVE);
+            let colour = irradiance / illuminance;
+            let light = DirectionalLight {
+                color: Color::linear_rgb(colour.x, colour.y, colour.z),
+                illuminance,
+                shadow_maps_enabled: false,
+                ..default()
+            };
+            // clothbake's glam is not Bevy's: through an array.
+            let towards = Vec3::from_array(source.direction.as_vec3().to_array());
+            (light, Transform::default().looking_to(-towards, Vec3::Y))
+        })
+        .collect()
 }
