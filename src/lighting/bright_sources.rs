@@ -34,6 +34,7 @@
 
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
+use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
 use super::{Environment, Level, equirect_direction};
@@ -175,25 +176,23 @@ fn source_of(level: &Level, region: &Region) -> DistantSource {
         .map(|e| e.1.dot(direction).clamp(-1.0, 1.0).acos())
         .fold(0.0, f64::max)
         + half_texel;
-    // The smallest blocks of 2ᵏ×2ᵏ texels that leave at most MAX_PARTS pieces; a block that
-    // straddles the seam is two pieces, which only happens once blocks are large.
+    // The smallest blocks of 2ᵏ×2ᵏ texels that leave at most MAX_PARTS pieces (a block that
+    // straddles the seam is two pieces, which only happens once blocks are large), in the
+    // blocks' order, so that the parts are the same on every run.
     let mut shift = 0;
     let parts = loop {
-        let mut blocks: Vec<((usize, usize), DVec3, DVec3)> = Vec::new();
+        let mut blocks: BTreeMap<(usize, usize), (DVec3, DVec3)> = BTreeMap::new();
         for &(index, dir, e, weight) in &excess {
-            let key = ((index % width) >> shift, (index / width) >> shift);
-            match blocks.iter_mut().find(|b| b.0 == key) {
-                Some(block) => {
-                    block.1 += dir * weight;
-                    block.2 += e;
-                }
-                None => blocks.push((key, dir * weight, e)),
-            }
+            let block = blocks
+                .entry(((index / width) >> shift, (index % width) >> shift))
+                .or_default();
+            block.0 += dir * weight;
+            block.1 += e;
         }
         if blocks.len() <= MAX_PARTS {
             break blocks
-                .into_iter()
-                .map(|(_, centroid, e)| (centroid.normalize_or(direction), e))
+                .into_values()
+                .map(|(centroid, e)| (centroid.normalize_or(direction), e))
                 .collect();
         }
         shift += 1;

@@ -140,6 +140,11 @@ fn lamps_are_found_windows_and_soft_boxes_stay_in_the_residual() {
     assert_eq!(split.sources.len(), 2, "{split}");
     for source in &split.sources {
         assert!(source.angular_radius.to_degrees() <= MAX_SOURCE_RADIUS_DEG);
+        // A lamp spans about 60 texels: gathered into blocks, at most MAX_PARTS of them,
+        // which carry its whole irradiance.
+        assert!(source.parts.len() <= clothbake::lighting::bright_sources::MAX_PARTS);
+        let parts: DVec3 = source.parts.iter().map(|p| p.1).sum();
+        assert!(((parts - source.irradiance) / source.irradiance).abs().max_element() < 1e-9);
     }
     assert_split_keeps_power("interior", &interior, &split);
     for soft in [GeneratedEnvironment::Studio, GeneratedEnvironment::Overcast] {
