@@ -144,7 +144,12 @@ fn lamps_are_found_windows_and_soft_boxes_stay_in_the_residual() {
         // which carry its whole irradiance.
         assert!(source.parts.len() <= clothbake::lighting::bright_sources::MAX_PARTS);
         let parts: DVec3 = source.parts.iter().map(|p| p.1).sum();
-        assert!(((parts - source.irradiance) / source.irradiance).abs().max_element() < 1e-9);
+        assert!(
+            ((parts - source.irradiance) / source.irradiance)
+                .abs()
+                .max_element()
+                < 1e-9
+        );
     }
     assert_split_keeps_power("interior", &interior, &split);
     for soft in [GeneratedEnvironment::Studio, GeneratedEnvironment::Overcast] {
