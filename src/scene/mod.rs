@@ -509,6 +509,8 @@ mod tests {
             ("[mesh]\nkind = \"obj\"\n", "mesh.path"),
             ("[mesh]\npath = \"a.obj\"\n", "mesh.path"),
             ("[mesh]\nkind = \"teapot\"\n", "teapot"),
+            ("[environment]\nsources = 9\n", "environment.sources"),
+            ("[environment]\nsamples = 0\n", "environment.samples"),
         ];
         for (extra, field) in cases {
             let error = Scene::parse(&format!("{base}{extra}"))
