@@ -125,12 +125,18 @@ fn to_local(f: ShadingFrame, w: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(dot(w, f.t), dot(w, f.b), dot(w, f.n));
 }
 
+// (cos, sin) of the environment's rotation about +y: computed once per fragment.
+fn render_environment_turn() -> vec2<f32> {
+    return vec2<f32>(cos(render_frame.environment.w), sin(render_frame.environment.w));
+}
+
 // The equirectangular coordinates of the map's texel seen in world direction `world`: the
-// direction turned back by the environment's rotation, then mapped as
-// `clothbake::lighting::equirect_uv` (+y up; u = 0.5 looks along −z).
-fn render_environment_uv(world: vec3<f32>) -> vec2<f32> {
-    let c = cos(render_frame.environment.w);
-    let s = sin(render_frame.environment.w);
+// direction turned back by the environment's rotation (`turn`, from
+// `render_environment_turn`), then mapped as `clothbake::lighting::equirect_uv` (+y up;
+// u = 0.5 looks along −z).
+fn render_environment_uv(world: vec3<f32>, turn: vec2<f32>) -> vec2<f32> {
+    let c = turn.x;
+    let s = turn.y;
     let d = vec3<f32>(c * world.x - s * world.z, world.y, s * world.x + c * world.z);
     let u = 0.5 + atan2(d.x, -d.z) * (0.5 / 3.14159265);
     let v = acos(clamp(d.y, -1.0, 1.0)) * (1.0 / 3.14159265);
@@ -144,6 +150,7 @@ fn render_environment_uv(world: vec3<f32>) -> vec2<f32> {
 // lod = ½·log2(Ωs/Ωp) (`sampling_lod`), Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the
 // sample's polar angle θ.
 fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
+    let turn = render_environment_turn();
     let count = render_frame.counts.y;
     let size = render_frame.environment;
     var sum = vec3<f32>(0.0);
@@ -159,7 +166,7 @@ fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
         let radiance = textureSampleLevel(
             render_environment,
             render_environment_sampler,
-            render_environment_uv(world),
+            render_environment_uv(world, turn),
             lod,
         ).rgb;
         sum += radiance * cloth_brdf(s.xyz, wo) / s.w;
@@ -255,7 +262,7 @@ fn fs_background(in: BackgroundOut) -> @location(0) vec4<f32> {
     let radiance = textureSampleLevel(
         render_environment,
         render_environment_sampler,
-        render_environment_uv(ray),
+        render_environment_uv(ray, render_environment_turn()),
         0.0,
     ).rgb;
     return vec4<f32>(render_tonemap(radiance), 1.0);

@@ -205,9 +205,14 @@ fn source_of(level: &Level, region: &Region) -> DistantSource {
     }
 }
 
-/// The compact regions of the texels above `threshold` among `candidates` (sorted), raising
-/// the threshold four-fold inside any region that is too wide.
-fn compact_regions(level: &Level, candidates: &[usize], threshold: f64, out: &mut Vec<Region>) {
+/// The compact regions of the texels above `threshold` among `candidates` (sorted), with
+/// their sources, raising the threshold four-fold inside any region that is too wide.
+fn compact_regions(
+    level: &Level,
+    candidates: &[usize],
+    threshold: f64,
+    out: &mut Vec<(Region, DistantSource)>,
+) {
     let members: Vec<usize> = candidates
         .iter()
         .copied()
@@ -215,9 +220,9 @@ fn compact_regions(level: &Level, candidates: &[usize], threshold: f64, out: &mu
         .collect();
     for texels in connected_regions(level, &members) {
         let region = Region { texels, threshold };
-        let radius = source_of(level, &region).angular_radius;
-        if radius <= MAX_SOURCE_RADIUS_DEG.to_radians() {
-            out.push(region);
+        let source = source_of(level, &region);
+        if source.angular_radius <= MAX_SOURCE_RADIUS_DEG.to_radians() {
+            out.push((region, source));
         } else {
             compact_regions(level, &region.texels, 4.0 * threshold, out);
         }
@@ -243,10 +248,6 @@ impl Environment {
         let power = 4.0 * PI * mean;
         let mut found: Vec<(Region, DistantSource)> = regions
             .into_iter()
-            .map(|region| {
-                let source = source_of(level, &region);
-                (region, source)
-            })
             .filter(|(_, source)| source.irradiance.element_sum() / 3.0 >= MIN_SOURCE_SHARE * power)
             .collect();
         // Most powerful first; ties (symmetric maps) by direction, so the order is the same

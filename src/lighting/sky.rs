@@ -17,12 +17,16 @@ pub const SUN_ANGULAR_RADIUS_DEG: f64 = 0.265;
 /// horizontal irradiance here.
 pub const SUN_RADIANCE: f64 = 3.5e4;
 
+/// The unit direction towards the sky's sun.
+pub fn sun_direction() -> DVec3 {
+    direction_deg(SUN_ELEVATION_DEG, SUN_AZIMUTH_DEG)
+}
+
 /// The clear sky's radiance from unit direction `d`: the sun's disc (warm white, uniform);
 /// above the horizon a blue zenith fading to a pale horizon, plus the aureole around the sun
 /// (a 3° lobe of peak 6 and a broad one of peak 0.8); below, a uniform ground.
 pub fn clear_sky_radiance(d: DVec3) -> DVec3 {
-    let sun = direction_deg(SUN_ELEVATION_DEG, SUN_AZIMUTH_DEG);
-    let cos_angle = d.dot(sun);
+    let cos_angle = d.dot(sun_direction());
     if cos_angle >= SUN_ANGULAR_RADIUS_DEG.to_radians().cos() {
         return DVec3::new(1.0, 0.96, 0.9) * SUN_RADIANCE;
     }

@@ -87,11 +87,10 @@ impl FrameUniform {
         } else {
             0
         };
-        let environment = environment.cloned().unwrap_or_default();
-        let sources = if samples > 0 {
-            &environment.sources[..environment.sources.len().min(MAX_SOURCES)]
-        } else {
-            &[]
+        let dimensions = environment.map_or([0; 3], |e| e.dimensions);
+        let sources = match environment {
+            Some(e) if samples > 0 => &e.sources[..e.sources.len().min(MAX_SOURCES)],
+            _ => &[],
         };
         let scene_lights = &settings.lights[..settings.lights.len().min(MAX_LIGHTS)];
         let mut lights = [LightUniform::default(); FRAME_LIGHTS];
@@ -136,9 +135,9 @@ impl FrameUniform {
             params: [settings.exposure, encode_srgb as u32 as f32, 0.0, 0.0],
             counts: [count as u32, samples, 0, 0],
             environment: [
-                environment.dimensions[0] as f32,
-                environment.dimensions[1] as f32,
-                environment.dimensions[2] as f32,
+                dimensions[0] as f32,
+                dimensions[1] as f32,
+                dimensions[2] as f32,
                 settings.environment_rotation,
             ],
             lights,

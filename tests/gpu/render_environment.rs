@@ -85,6 +85,22 @@ fn render(
     }
 }
 
+/// The CPU reference of `r`'s view under `map`: F by the same table's f32 lookup, so that
+/// only the light's integration differs; the residual by 256 MIS pairs per pixel.
+fn reference_of(r: &Render, map: &Environment, settings: &FrameSettings) -> LinearImage {
+    let environment = ReferenceEnvironment {
+        map,
+        sampler: &r.sampler,
+        samples: 256,
+    };
+    reference::shade_with(
+        &r.gbuffer,
+        settings,
+        |wi, wo| lookup_f32(&r.table, wi, wo),
+        Some(&environment),
+    )
+}
+
 /// wo in each covered pixel's thread frame (as the reference builds it), by pixel index.
 fn outgoing(gbuffer: &GBuffer, eye: DVec3) -> Vec<(usize, DVec3)> {
     let v = |a: [f32; 4]| DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
@@ -201,17 +217,7 @@ fn studio_render_approaches_the_cpu_reference() {
     let mut failures = Vec::new();
     for fabric in builtin() {
         let r = render(&context, &fabric, &map, &settings, 0);
-        let environment = ReferenceEnvironment {
-            map: &map,
-            sampler: &r.sampler,
-            samples: 256,
-        };
-        let cpu = reference::shade_with(
-            &r.gbuffer,
-            &settings,
-            |wi, wo| lookup_f32(&r.table, wi, wo),
-            Some(&environment),
-        );
+        let cpu = reference_of(&r, &map, &settings);
         let error = image_error(&r.image, &cpu, settings.exposure).unwrap();
         let measured = STUDIO_ERROR
             .iter()
@@ -263,17 +269,7 @@ fn the_sun_as_a_light_brings_the_sky_to_the_reference() {
     for fabric in builtin() {
         let errors = [MAX_SOURCES, 0].map(|sources| {
             let r = render(&context, &fabric, &map, &settings, sources);
-            let environment = ReferenceEnvironment {
-                map: &map,
-                sampler: &r.sampler,
-                samples: 256,
-            };
-            let cpu = reference::shade_with(
-                &r.gbuffer,
-                &settings,
-                |wi, wo| lookup_f32(&r.table, wi, wo),
-                Some(&environment),
-            );
+            let cpu = reference_of(&r, &map, &settings);
             image_error(&r.image, &cpu, settings.exposure)
                 .unwrap()
                 .relative_l2
@@ -327,29 +323,20 @@ fn a_turned_sky_lights_the_cloth_as_the_reference_turns_it() {
         ..settings(DEFAULT_ENVIRONMENT_SAMPLES)
     };
     let r = render(&context, &fabric, &map, &settings, MAX_SOURCES);
-    let environment = ReferenceEnvironment {
-        map: &map,
-        sampler: &r.sampler,
-        samples: 256,
-    };
-    let turned = |settings: &FrameSettings| {
-        reference::shade_with(
-            &r.gbuffer,
-            settings,
-            |wi, wo| lookup_f32(&r.table, wi, wo),
-            Some(&environment),
-        )
-    };
-    let cpu = turned(&settings);
+    let cpu = reference_of(&r, &map, &settings);
     let error = image_error(&r.image, &cpu, settings.exposure)
         .unwrap()
         .relative_l2;
     // The same reference without the turn is far: the test would see a rotation the shader
     // applied and the reference did not (or the other way round).
-    let unturned = turned(&FrameSettings {
-        environment_rotation: 0.0,
-        ..settings.clone()
-    });
+    let unturned = reference_of(
+        &r,
+        &map,
+        &FrameSettings {
+            environment_rotation: 0.0,
+            ..settings.clone()
+        },
+    );
     let apart = image_error(&r.image, &unturned, settings.exposure)
         .unwrap()
         .relative_l2;

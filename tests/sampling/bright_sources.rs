@@ -1,17 +1,28 @@
 //! The generated environments and the split of a map into compact bright sources and a soft
 //! residual (src/lighting/bright_sources.rs).
 
-use clothbake::lighting::bright_sources::{MAX_SOURCE_RADIUS_DEG, MAX_SOURCES};
-use clothbake::lighting::sky::{
-    SUN_ANGULAR_RADIUS_DEG, SUN_AZIMUTH_DEG, SUN_ELEVATION_DEG, SUN_RADIANCE,
+use clothbake::lighting::bright_sources::{MAX_PARTS, MAX_SOURCE_RADIUS_DEG, MAX_SOURCES};
+use clothbake::lighting::sky::{self, SUN_ANGULAR_RADIUS_DEG, SUN_RADIANCE};
+use clothbake::lighting::{
+    DistantSource, Environment, EnvironmentSource, GeneratedEnvironment, SplitEnvironment,
 };
-use clothbake::lighting::{Environment, EnvironmentSource, GeneratedEnvironment, SplitEnvironment};
 use glam::DVec3;
 use std::f64::consts::PI;
 
-fn sun_direction() -> DVec3 {
-    let (e, a) = (SUN_ELEVATION_DEG.to_radians(), SUN_AZIMUTH_DEG.to_radians());
-    DVec3::new(e.cos() * a.sin(), e.sin(), e.cos() * a.cos())
+/// A source's blocks: at most MAX_PARTS, carrying its whole irradiance.
+fn assert_parts_carry_the_source(source: &DistantSource) {
+    assert!(
+        source.parts.len() <= MAX_PARTS,
+        "{} parts",
+        source.parts.len()
+    );
+    let parts: DVec3 = source.parts.iter().map(|p| p.1).sum();
+    assert!(
+        ((parts - source.irradiance) / source.irradiance)
+            .abs()
+            .max_element()
+            < 1e-9
+    );
 }
 
 /// The irradiance a map gives in every direction at once, 4π·mean, per channel.
@@ -102,7 +113,10 @@ fn the_sun_becomes_one_light_where_it_is_and_the_power_is_kept() {
     let split = sky.split_bright_sources(MAX_SOURCES);
     assert_eq!(split.sources.len(), 1, "{split}");
     let sun = &split.sources[0];
-    let off = sun.direction.angle_between(sun_direction()).to_degrees();
+    let off = sun
+        .direction
+        .angle_between(sky::sun_direction())
+        .to_degrees();
     assert!(off < 0.05, "the sun's light is {off}° off the sun");
     assert!(
         sun.angular_radius.to_degrees() < 0.5,
@@ -114,14 +128,7 @@ fn the_sun_becomes_one_light_where_it_is_and_the_power_is_kept() {
     let e = sun.irradiance.element_sum() / 3.0;
     assert!((e / disc - 1.0).abs() < 0.05, "E = {e}, disc {disc}");
     assert_split_keeps_power("sky", &sky, &split);
-    let parts: DVec3 = sun.parts.iter().map(|p| p.1).sum();
-    assert!(
-        ((parts - sun.irradiance) / sun.irradiance)
-            .abs()
-            .max_element()
-            < 1e-9
-    );
-    assert!(sun.parts.len() <= clothbake::lighting::bright_sources::MAX_PARTS);
+    assert_parts_carry_the_source(sun);
     // What stays is bounded by the threshold: no texel of the residual is a sun.
     let mean = sky.mean_radiance().element_sum() / 3.0;
     let peak = split.residual.levels()[0]
@@ -140,16 +147,8 @@ fn lamps_are_found_windows_and_soft_boxes_stay_in_the_residual() {
     assert_eq!(split.sources.len(), 2, "{split}");
     for source in &split.sources {
         assert!(source.angular_radius.to_degrees() <= MAX_SOURCE_RADIUS_DEG);
-        // A lamp spans about 60 texels: gathered into blocks, at most MAX_PARTS of them,
-        // which carry its whole irradiance.
-        assert!(source.parts.len() <= clothbake::lighting::bright_sources::MAX_PARTS);
-        let parts: DVec3 = source.parts.iter().map(|p| p.1).sum();
-        assert!(
-            ((parts - source.irradiance) / source.irradiance)
-                .abs()
-                .max_element()
-                < 1e-9
-        );
+        // A lamp spans about 60 texels, gathered into blocks.
+        assert_parts_carry_the_source(source);
     }
     assert_split_keeps_power("interior", &interior, &split);
     for soft in [GeneratedEnvironment::Studio, GeneratedEnvironment::Overcast] {
