@@ -149,3 +149,39 @@ fn paper_mode_converges_to_direct_evaluation() {
         assert!(errors[4] < 2e-3, "{}: {errors:?}", fabric.name);
     }
 }
+
+/// The cause of the bright seam across the top of the velvet drape (docs/model.md#light-at-the-horizon):
+/// F does not vanish as the light reaches the horizon. Velvet's pile (tangent offsets down to
+/// −90°, t = −z) takes grazing light broadside, so with the light along thread 2 F rises to
+/// its largest value at the horizon and the one-sided rule cuts it to 0 below: a light's
+/// terminator on velvet is a hard, bright edge. The default scene's point light is 6° above
+/// the horizon at the top of the drape, which puts that edge across it. A mesh frame or a table
+/// coordinate would show as a jump in F along a direction's azimuth; this pins the jump at the
+/// horizon, in the direct evaluation the tables reproduce.
+#[test]
+fn velvet_is_brightest_where_the_light_meets_the_horizon() {
+    let patch = Patch::new(&fabric("velvet"), Integration::Direct);
+    let wo = dir(60.0, 200.0);
+    let f = |elevation_deg: f64| patch.eval(dir(elevation_deg, 90.0), wo).element_sum();
+    // The limit at the horizon: reached smoothly (1e-4° and 1e-2° agree to 0.2%), not a spike.
+    let limit = f(1e-4);
+    assert!(limit > 0.0);
+    assert!(
+        (f(1e-2) / limit - 1.0).abs() < 2e-3,
+        "{} vs {limit}",
+        f(1e-2)
+    );
+    // Below every higher light: 0.5°, 1°, …, 80° all give less.
+    for elevation in [0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 45.0, 80.0] {
+        assert!(
+            f(elevation) < limit,
+            "{elevation}°: {} ≥ {limit}",
+            f(elevation)
+        );
+    }
+    // Under a third of it at 10°: the light's last 10° above the horizon make the edge.
+    assert!(f(10.0) < 0.35 * limit, "{} vs {limit}", f(10.0));
+    // And nothing on or below it.
+    assert_eq!(f(0.0), 0.0);
+    assert_eq!(f(-1e-4), 0.0);
+}
