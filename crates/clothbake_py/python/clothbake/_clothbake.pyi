@@ -1,0 +1,85 @@
+"""Type stubs of the extension module (crates/clothbake_py/src/lib.rs)."""
+
+import os
+from typing import Optional, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+_Path = Union[str, os.PathLike[str]]
+_Directions = npt.ArrayLike  # shape (N, 3), directions in the cloth frame (normalised as read)
+
+class ClothbakeError(ValueError):
+    """A fabric, evaluator, table, file or array that clothbake refuses; the message names
+    what is wrong."""
+
+class Fabric:
+    """One fabric of the model: two thread families with their tangent curves."""
+
+    @staticmethod
+    def builtin(name: str) -> Fabric:
+        """The built-in fabric ``name`` (one of ``fabric_names()``)."""
+    @property
+    def name(self) -> str: ...
+
+class Evaluator:
+    """F(wi, wo) of one fabric by one evaluator of the registry, with the importance sampler
+    that fits it. ``evaluator`` is spelled as on every clothbake command; ``table`` without a
+    path reads ``TABLES/NAME.exr``."""
+
+    def __init__(self, fabric: Fabric, evaluator: str = "direct", tables: _Path = "tables") -> None: ...
+    @property
+    def spelling(self) -> str:
+        """The spelling that parses back to this evaluator (``paper:32``)."""
+    @property
+    def label(self) -> str:
+        """A short description (``table thread_frame R=48``)."""
+    def eval(self, wi: _Directions, wo: _Directions) -> npt.NDArray[np.float64]:
+        """F(wi, wo) per row, RGB, shape (N, 3); 0 where either direction is on or below
+        the horizon. The GIL is released while the batch runs."""
+    def sample(
+        self, wo: _Directions, u: npt.ArrayLike
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Directions wi (N, 3) drawn for each wo from three uniform numbers in [0, 1) per
+        row of u, and pdf(wi | wo) per unit solid angle (N,); a rejected draw has wi = 0 and
+        pdf = 0."""
+    def pdf(self, wo: _Directions, wi: _Directions) -> npt.NDArray[np.float64]:
+        """pdf(wi | wo) per unit solid angle, shape (N,); 0 unless both are above the
+        horizon."""
+
+class Table:
+    """A baked table read from its EXR file, with the provenance it records."""
+
+    @staticmethod
+    def load(path: _Path) -> Table: ...
+    @property
+    def layout(self) -> str: ...
+    @property
+    def resolution(self) -> int: ...
+    @property
+    def fabric(self) -> Fabric: ...
+    @property
+    def byte_size(self) -> int: ...
+    @property
+    def hash(self) -> str: ...
+    def check(self, pairs: int = 20000) -> dict[str, dict[str, float]]:
+        """The table's error against the direct evaluation of its fabric (as ``clothbake
+        check``): per pair set, ``relative_rms``, ``max_abs`` and ``max_abs_at_value``."""
+    def evaluator(self) -> Evaluator:
+        """``Evaluator(self.fabric, "table:PATH")``."""
+
+def fabric_names() -> list[str]:
+    """The names of the built-in fabrics."""
+
+def load_fabrics(path: _Path) -> list[Fabric]:
+    """Every fabric of a fabric file (TOML), validated."""
+
+def evaluator_syntaxes() -> list[str]:
+    """The registered evaluators' spellings."""
+
+def bake(
+    fabric: Fabric, path: _Path, layout: Optional[str] = None, resolution: Optional[int] = None
+) -> Table:
+    """Bakes ``fabric`` into a table of ``layout`` (default ``thread_frame``) at
+    ``resolution`` (default: the layout's), written to ``path`` atomically."""

@@ -1,0 +1,438 @@
+//! `clothbake._clothbake`: clothbake's fabrics, evaluators, sampler and tables for Python.
+//!
+//! A thin layer over the `clothbake` crate: every evaluator of its registry
+//! (`clothbake::evaluator::EVALUATORS`) by the spelling the commands share, batch evaluation
+//! and sampling over NumPy arrays of directions in the cloth frame (x thread 1, y thread 2, z
+//! the normal), with the GIL released while the Rust batch runs on rayon's threads. Errors
+//! are `ClothbakeError` (a `ValueError`) carrying the library's message, which names the
+//! field, file or row that is wrong. The Python package (`python/clothbake`) re-exports this
+//! module and adds the Mitsuba 3 BSDF.
+
+use clothbake::evaluator::{self, EvaluationContext, FabricEvaluator};
+use clothbake::formats::fabric_toml::FabricSet;
+use clothbake::formats::json_lines::unit_direction;
+use clothbake::formats::table_exr::{read_table, write_table};
+use clothbake::measure::accuracy::{SetError, measure};
+use clothbake::sampling::Sampler;
+use clothbake::table::Layout;
+use glam::DVec3;
+use numpy::ndarray::{Array1, Array2};
+use numpy::{
+    AllowTypeChange, IntoPyArray, PyArray1, PyArray2, PyArrayLike2, PyUntypedArrayMethods,
+};
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rayon::prelude::*;
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+create_exception!(
+    _clothbake,
+    ClothbakeError,
+    PyValueError,
+    "A fabric, evaluator, table, file or array that clothbake refuses; the message names what is wrong."
+);
+
+fn error(message: impl std::fmt::Display) -> PyErr {
+    ClothbakeError::new_err(message.to_string())
+}
+
+/// One fabric of the model: two thread families with their tangent curves
+/// (docs/model.md#the-six-built-in-fabrics).
+#[pyclass(frozen, module = "clothbake._clothbake")]
+struct Fabric {
+    inner: clothbake::model::Fabric,
+}
+
+#[pymethods]
+impl Fabric {
+    /// The built-in fabric `name` (one of `fabric_names()`).
+    #[staticmethod]
+    fn builtin(name: &str) -> PyResult<Self> {
+        let set = FabricSet::builtin();
+        let inner = set.require(name).map_err(error)?.clone();
+        Ok(Self { inner })
+    }
+
+    /// The fabric's name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.inner.name
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Fabric('{}')", self.inner.name)
+    }
+}
+
+/// The names of the built-in fabrics, in the fabric file's order.
+#[pyfunction]
+fn fabric_names() -> Vec<String> {
+    FabricSet::builtin()
+        .fabrics()
+        .iter()
+        .map(|f| f.name.clone())
+        .collect()
+}
+
+/// Every fabric of a fabric file (TOML, docs/file-formats.md#fabric-files), validated.
+#[pyfunction]
+fn load_fabrics(path: PathBuf) -> PyResult<Vec<Fabric>> {
+    let set = FabricSet::load(&path).map_err(error)?;
+    Ok(set
+        .fabrics()
+        .iter()
+        .map(|f| Fabric { inner: f.clone() })
+        .collect())
+}
+
+/// The registered evaluators' spellings (`direct`, `paper[:N]`, `resonant[:S/V/B]`,
+/// `table[:PATH]`, `constant`).
+#[pyfunction]
+fn evaluator_syntaxes() -> Vec<&'static str> {
+    evaluator::EVALUATORS.iter().map(|u| u.syntax()).collect()
+}
+
+/// The directions of an (N, 3) array, normalised as every clothbake command reads a
+/// direction (`unit_direction`: finite, not zero, any length).
+fn directions(name: &str, array: &PyArrayLike2<'_, f64, AllowTypeChange>) -> PyResult<Vec<DVec3>> {
+    let shape = array.shape();
+    if shape.len() != 2 || shape[1] != 3 {
+        return Err(error(format!(
+            "{name}: expected an array of shape (N, 3), got {shape:?}"
+        )));
+    }
+    array
+        .as_array()
+        .rows()
+        .into_iter()
+        .enumerate()
+        .map(|(row, w)| {
+            unit_direction([w[0], w[1], w[2]], name)
+                .map_err(|message| error(format!("row {row}: {message}")))
+        })
+        .collect()
+}
+
+fn same_length(names: [&str; 2], a: usize, b: usize) -> PyResult<()> {
+    if a == b {
+        Ok(())
+    } else {
+        Err(error(format!(
+            "{} has {a} rows and {} has {b}: they must match",
+            names[0], names[1]
+        )))
+    }
+}
+
+fn rgb_array(values: Vec<DVec3>) -> Array2<f64> {
+    let n = values.len();
+    let flat: Vec<f64> = values.iter().flat_map(|v| v.to_array()).collect();
+    Array2::from_shape_vec((n, 3), flat).expect("n rows of 3")
+}
+
+/// Sampled directions (N, 3) and their densities (N,).
+type Draws<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// F(wi, wo) of one fabric by one evaluator of the registry, with the importance sampler
+/// that fits it.
+///
+/// `Evaluator(fabric, evaluator="direct", tables="tables")`: `evaluator` is spelled as on
+/// every clothbake command (`direct`, `paper:32`, `resonant:6/5/2`, `table`, `table:PATH`,
+/// `PATH.exr`, `constant`); `table` without a path reads `TABLES/NAME.exr`.
+#[pyclass(frozen, module = "clothbake._clothbake")]
+struct Evaluator {
+    inner: Box<dyn FabricEvaluator>,
+    spelling: String,
+    sampler: OnceLock<Sampler>,
+}
+
+impl Evaluator {
+    fn sampler(&self) -> &Sampler {
+        self.sampler.get_or_init(|| self.inner.sampler())
+    }
+}
+
+#[pymethods]
+impl Evaluator {
+    #[new]
+    #[pyo3(signature = (fabric, evaluator = "direct", tables = PathBuf::from("tables")))]
+    fn new(py: Python<'_>, fabric: &Fabric, evaluator: &str, tables: PathBuf) -> PyResult<Self> {
+        let configured = evaluator::parse(evaluator).map_err(error)?;
+        let context = EvaluationContext { tables };
+        let inner = py
+            .detach(|| configured.prepare(&fabric.inner, &context))
+            .map_err(error)?;
+        Ok(Self {
+            inner,
+            spelling: configured.spelling(),
+            sampler: OnceLock::new(),
+        })
+    }
+
+    /// The evaluator's spelling, as it parses back (`paper:32`).
+    #[getter]
+    fn spelling(&self) -> &str {
+        &self.spelling
+    }
+
+    /// A short description (`table thread_frame R=48`).
+    #[getter]
+    fn label(&self) -> String {
+        self.inner.label()
+    }
+
+    /// F(wi, wo) (RGB, cosines included, shape (N, 3)) for each row of `wi` (towards the
+    /// light) and `wo` (towards the viewer), directions in the cloth frame (normalised as read); 0 where either
+    /// is on or below the horizon.
+    fn eval<'py>(
+        &self,
+        py: Python<'py>,
+        wi: PyArrayLike2<'py, f64, AllowTypeChange>,
+        wo: PyArrayLike2<'py, f64, AllowTypeChange>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (wi, wo) = (directions("wi", &wi)?, directions("wo", &wo)?);
+        same_length(["wi", "wo"], wi.len(), wo.len())?;
+        let pairs: Vec<(DVec3, DVec3)> = wi.into_iter().zip(wo).collect();
+        let values = py.detach(|| self.inner.eval_batch(&pairs));
+        Ok(rgb_array(values).into_pyarray(py))
+    }
+
+    /// Directions drawn for each row of `wo` from three uniform numbers in [0, 1) per row
+    /// of `u`: `(wi, pdf)` with wi of shape (N, 3) and pdf(wi | wo) per unit solid angle of
+    /// shape (N,). A rejected draw (wo or the draw on or below the horizon) has wi = 0 and
+    /// pdf = 0.
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        wo: PyArrayLike2<'py, f64, AllowTypeChange>,
+        u: PyArrayLike2<'py, f64, AllowTypeChange>,
+    ) -> PyResult<Draws<'py>> {
+        let wo = directions("wo", &wo)?;
+        let shape = u.shape();
+        if shape.len() != 2 || shape[1] != 3 {
+            return Err(error(format!(
+                "u: expected an array of shape (N, 3), got {shape:?}"
+            )));
+        }
+        let u: Vec<[f64; 3]> = u
+            .as_array()
+            .rows()
+            .into_iter()
+            .map(|r| [r[0], r[1], r[2]])
+            .collect();
+        if let Some(row) = u
+            .iter()
+            .position(|r| r.iter().any(|x| !(0.0..1.0).contains(x)))
+        {
+            return Err(error(format!("u row {row}: {:?} is not in [0, 1)", u[row])));
+        }
+        same_length(["wo", "u"], wo.len(), u.len())?;
+        let sampler = py.detach(|| self.sampler());
+        let draws: Vec<(DVec3, f64)> = py.detach(|| {
+            par_map(&wo, &u, |&wo, &u| {
+                sampler
+                    .sample(wo, u)
+                    .map_or((DVec3::ZERO, 0.0), |s| (s.wi, s.pdf))
+            })
+        });
+        let wi = rgb_array(draws.iter().map(|d| d.0).collect());
+        let pdf = Array1::from_iter(draws.iter().map(|d| d.1));
+        Ok((wi.into_pyarray(py), pdf.into_pyarray(py)))
+    }
+
+    /// pdf(wi | wo) per unit solid angle of the sampler, shape (N,); 0 unless both are
+    /// above the horizon.
+    fn pdf<'py>(
+        &self,
+        py: Python<'py>,
+        wo: PyArrayLike2<'py, f64, AllowTypeChange>,
+        wi: PyArrayLike2<'py, f64, AllowTypeChange>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (wo, wi) = (directions("wo", &wo)?, directions("wi", &wi)?);
+        same_length(["wo", "wi"], wo.len(), wi.len())?;
+        let sampler = py.detach(|| self.sampler());
+        let pdf = py.detach(|| par_map(&wo, &wi, |&wo, &wi| sampler.pdf(wo, wi)));
+        Ok(Array1::from_vec(pdf).into_pyarray(py))
+    }
+
+    /// Seconds the Rust batch of this evaluator takes over the pairs (wi, wo), already in
+    /// Rust's form: the floor that `eval` is compared with (bench/batch.py).
+    fn _rust_batch_seconds<'py>(
+        &self,
+        py: Python<'py>,
+        wi: PyArrayLike2<'py, f64, AllowTypeChange>,
+        wo: PyArrayLike2<'py, f64, AllowTypeChange>,
+    ) -> PyResult<f64> {
+        let (wi, wo) = (directions("wi", &wi)?, directions("wo", &wo)?);
+        same_length(["wi", "wo"], wi.len(), wo.len())?;
+        let pairs: Vec<(DVec3, DVec3)> = wi.into_iter().zip(wo).collect();
+        Ok(py.detach(|| {
+            let start = std::time::Instant::now();
+            std::hint::black_box(self.inner.eval_batch(std::hint::black_box(&pairs)));
+            start.elapsed().as_secs_f64()
+        }))
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Evaluator('{}')", self.inner.label())
+    }
+}
+
+/// `f` over the pairs of two slices of equal length, in order, on rayon's threads.
+fn par_map<A: Sync, B: Sync, T: Send>(a: &[A], b: &[B], f: impl Fn(&A, &B) -> T + Sync) -> Vec<T> {
+    a.par_iter().zip(b).map(|(a, b)| f(a, b)).collect()
+}
+
+/// A baked table read from its EXR file, with the provenance it records.
+#[pyclass(frozen, module = "clothbake._clothbake")]
+struct Table {
+    file: clothbake::formats::table_exr::TableFile,
+    path: PathBuf,
+}
+
+fn set_error_dict<'py>(py: Python<'py>, e: &SetError) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("relative_rms", e.relative_rms)?;
+    d.set_item("max_abs", e.max_abs)?;
+    d.set_item("max_abs_at_value", e.max_abs_at_value)?;
+    Ok(d)
+}
+
+#[pymethods]
+impl Table {
+    /// Reads and checks a table file (`clothbake check`'s reading: layout, planes, fabric,
+    /// hash).
+    #[staticmethod]
+    fn load(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let file = py.detach(|| read_table(&path)).map_err(error)?;
+        Ok(Self { file, path })
+    }
+
+    /// The table's layout (`thread_frame`, `split_frame`, `grid4d`).
+    #[getter]
+    fn layout(&self) -> &'static str {
+        self.file.table.layout.name()
+    }
+
+    #[getter]
+    fn resolution(&self) -> u32 {
+        self.file.table.resolution
+    }
+
+    /// The fabric it was baked from.
+    #[getter]
+    fn fabric(&self) -> Fabric {
+        Fabric {
+            inner: self.file.table.fabric.clone(),
+        }
+    }
+
+    /// Bytes of f16 texels.
+    #[getter]
+    fn byte_size(&self) -> usize {
+        self.file.table.byte_size()
+    }
+
+    /// SHA-256 of what made the table (fabric, layout, resolution, baker revision).
+    #[getter]
+    fn hash(&self) -> &str {
+        &self.file.hash
+    }
+
+    /// The table's error against the direct evaluation of its fabric, as `clothbake check`
+    /// measures it: `pairs` uniform and `pairs` highlight pairs; a dict per set
+    /// (`uniform`, `highlight`, and the same above 1° and 3° elevation) of relative RMS,
+    /// largest |error| and F where it occurs.
+    #[pyo3(signature = (pairs = 20000))]
+    fn check<'py>(&self, py: Python<'py>, pairs: usize) -> PyResult<Bound<'py, PyDict>> {
+        if !(1..=1_000_000).contains(&pairs) {
+            return Err(error(format!("pairs: {pairs} is not in 1..=1000000")));
+        }
+        let table = &self.file.table;
+        let e = py.detach(|| measure(table, &table.fabric, pairs));
+        let d = PyDict::new(py);
+        for (key, set) in [
+            ("uniform", &e.uniform),
+            ("uniform_above_1deg", &e.uniform_above_1deg),
+            ("uniform_above_3deg", &e.uniform_above_3deg),
+            ("highlight", &e.highlight),
+            ("highlight_above_1deg", &e.highlight_above_1deg),
+            ("highlight_above_3deg", &e.highlight_above_3deg),
+        ] {
+            d.set_item(key, set_error_dict(py, set)?)?;
+        }
+        Ok(d)
+    }
+
+    /// The evaluator of this table (`Evaluator(fabric, "table:PATH")`).
+    fn evaluator(&self, py: Python<'_>) -> PyResult<Evaluator> {
+        let spelling = format!("table:{}", self.path.display());
+        Evaluator::new(py, &self.fabric(), &spelling, PathBuf::from("tables"))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Table('{}': {} {} at resolution {})",
+            self.path.display(),
+            self.file.table.fabric.name,
+            self.layout(),
+            self.resolution()
+        )
+    }
+}
+
+/// Bakes `fabric` into a table of `layout` (default `thread_frame`) at `resolution`
+/// (default: the layout's) and writes it to `path` atomically (a temporary file, then a
+/// rename); returns the table as read back.
+#[pyfunction]
+#[pyo3(signature = (fabric, path, layout = None, resolution = None))]
+fn bake(
+    py: Python<'_>,
+    fabric: &Fabric,
+    path: PathBuf,
+    layout: Option<&str>,
+    resolution: Option<u32>,
+) -> PyResult<Table> {
+    let layout = match layout {
+        None => Layout::DEFAULT,
+        Some(name) => Layout::from_name(name).ok_or_else(|| {
+            error(format!(
+                "layout: unknown '{name}'; layouts: {}",
+                Layout::ALL
+                    .iter()
+                    .map(|l| l.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })?,
+    };
+    let resolution = resolution.unwrap_or(layout.default_resolution());
+    py.detach(|| -> Result<(), String> {
+        let table = clothbake::bake::bake(&fabric.inner, layout, resolution, &|| {})
+            .map_err(|e| e.to_string())?;
+        write_table(&path, &table).map_err(|e| e.to_string())?;
+        Ok(())
+    })
+    .map_err(error)?;
+    Table::load(py, path)
+}
+
+/// clothbake's version.
+const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+#[pymodule]
+fn _clothbake(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", VERSION)?;
+    m.add("ClothbakeError", m.py().get_type::<ClothbakeError>())?;
+    m.add_class::<Fabric>()?;
+    m.add_class::<Evaluator>()?;
+    m.add_class::<Table>()?;
+    m.add_function(wrap_pyfunction!(fabric_names, m)?)?;
+    m.add_function(wrap_pyfunction!(load_fabrics, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluator_syntaxes, m)?)?;
+    m.add_function(wrap_pyfunction!(bake, m)?)?;
+    Ok(())
+}
