@@ -12,12 +12,16 @@
 #   none of them);
 # - glslang-tools (Khronos' glslangValidator), which the tests use to compile the GLSL and
 #   HLSL translations of the lookup (`clothbake wgsl --lang`) and to run the GLSL through
-#   Vulkan.
+#   Vulkan;
+# - python3-venv, and libllvm15 for Mitsuba 3's LLVM back end (Dr.Jit loads it at run time);
+# - the Python package `clothbake` (crates/clothbake_py, docs/python.md), built by maturin and
+#   installed with its tools (pytest, Mitsuba 3.6.4) into the virtual environment .venv.
 # Packages already installed are left alone, so a second run costs nothing.
 set -euo pipefail
 
 packages=(mesa-vulkan-drivers libvulkan1 xvfb xauth ca-certificates curl
-    libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 glslang-tools)
+    libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 glslang-tools
+    python3-venv libllvm15)
 missing=()
 for package in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
@@ -55,6 +59,16 @@ if ! cargo_is_new_enough; then
         export RUSTUP_TOOLCHAIN=stable
     fi
 fi
+
+# The Python package and its tools in .venv. Mitsuba is pinned: 3.6.4 runs on Debian 12's
+# LLVM 15, newer releases' JIT aborts there (docs/python.md#versions).
+if [[ ! -x $root/.venv/bin/python ]]; then
+    echo "setup: creating the Python virtual environment .venv" >&2
+    python3 -m venv "$root/.venv" >&2
+fi
+"$root/.venv/bin/pip" install -q --disable-pip-version-check \
+    "maturin>=1.9.4,<2" "numpy>=1.22" pytest "mitsuba==3.6.4" >&2
+"$root/scripts/python-package.sh" >&2
 
 # Vulkan loaders warn without a runtime directory; the value does not matter headless.
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"

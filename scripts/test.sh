@@ -22,3 +22,7 @@ CLOTHBAKE_BIN="$PWD/target/ci/clothbake" cargo test --profile ci --locked --work
 # either way. The workspace's feature
 # unification differs here, so some dependencies build a second time.
 cargo test --profile ci --locked --no-default-features --bins --test cli
+# The Python package (crates/clothbake_py) against the binary built above, and inside
+# Mitsuba 3: rebuilt first in case the sources changed since scripts/setup.sh installed it.
+scripts/python-package.sh
+CLOTHBAKE_BIN="$PWD/target/ci/clothbake" .venv/bin/python -m pytest -q crates/clothbake_py/tests
