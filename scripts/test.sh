@@ -14,6 +14,11 @@ cd "$(dirname "$0")/.."
 # The plugin's headless comparison runs the `clothbake` binary of this same build
 # (CLOTHBAKE_BIN) rather than building it again with the core's own feature set.
 CLOTHBAKE_BIN="$PWD/target/ci/clothbake" cargo test --profile ci --locked --workspace
+# The Python package (crates/clothbake_py) against the binary built above (with
+# the runtime: the Mitsuba comparison renders with it; the next step replaces it), and inside
+# Mitsuba 3: rebuilt first in case the sources changed since scripts/setup.sh installed it.
+scripts/python-package.sh
+CLOTHBAKE_BIN="$PWD/target/ci/clothbake" .venv/bin/python -m pytest -q crates/clothbake_py/tests
 # Without the runtime: the CLI without `render`/`view`/`report` (its own test binary, `cli`,
 # tests/cli/, against that binary; `eval --evaluator` there exercises the evaluators without
 # their GPU forms). Nothing else needs running again: the feature only changes lib.rs's list
@@ -22,7 +27,3 @@ CLOTHBAKE_BIN="$PWD/target/ci/clothbake" cargo test --profile ci --locked --work
 # either way. The workspace's feature
 # unification differs here, so some dependencies build a second time.
 cargo test --profile ci --locked --no-default-features --bins --test cli
-# The Python package (crates/clothbake_py) against the binary built above, and inside
-# Mitsuba 3: rebuilt first in case the sources changed since scripts/setup.sh installed it.
-scripts/python-package.sh
-CLOTHBAKE_BIN="$PWD/target/ci/clothbake" .venv/bin/python -m pytest -q crates/clothbake_py/tests

@@ -12,13 +12,16 @@ use clothbake::evaluator::{self, EvaluationContext, FabricEvaluator};
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::formats::json_lines::unit_direction;
 use clothbake::formats::table_exr::{read_table, write_table};
+use clothbake::lighting::EnvironmentSource;
 use clothbake::measure::accuracy::{SetError, measure};
 use clothbake::sampling::Sampler;
+use clothbake::scene::mesh::Mesh;
+use clothbake::scene::{Light, Scene};
 use clothbake::table::Layout;
 use glam::DVec3;
-use numpy::ndarray::{Array1, Array2};
+use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{
-    AllowTypeChange, IntoPyArray, PyArray1, PyArray2, PyArrayLike2, PyUntypedArrayMethods,
+    AllowTypeChange, IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayLike2, PyUntypedArrayMethods,
 };
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
@@ -420,6 +423,106 @@ fn bake(
     Table::load(py, path)
 }
 
+/// An (n, k) array of `rows`.
+fn matrix<const K: usize, T: Copy + Into<f64>>(rows: impl Iterator<Item = [T; K]>) -> Array2<f64> {
+    let flat: Vec<f64> = rows.flat_map(|r| r.map(Into::into)).collect();
+    let n = flat.len() / K;
+    Array2::from_shape_vec((n, K), flat).expect("n rows of K")
+}
+
+/// The scene `clothbake render` draws, for another renderer to draw the same view: the
+/// built-in scene, or the scene file at `path`. A dict of `fabrics`, `exposure`, `camera`
+/// (`eye`, `target`, `fov_y_deg`; +y up), `lights` (dicts: `kind` "directional" with
+/// `direction` towards the light and `irradiance`, or "point" with `position` and
+/// `intensity`; `color`), and `mesh`: `positions`, `normals`, `tangents` (thread 1) of shape
+/// (N, 3), `uvs` (N, 2) and `faces` (M, 3) of vertex indices.
+#[pyfunction]
+#[pyo3(signature = (path = None))]
+fn load_scene(py: Python<'_>, path: Option<PathBuf>) -> PyResult<Bound<'_, PyDict>> {
+    let scene = match path {
+        Some(path) => Scene::load(&path).map_err(error)?,
+        None => Scene::builtin(),
+    };
+    let mesh = py.detach(|| Mesh::from_spec(&scene.mesh)).map_err(error)?;
+    let d = PyDict::new(py);
+    d.set_item("fabrics", scene.fabrics.clone())?;
+    d.set_item("exposure", scene.exposure)?;
+    let camera = PyDict::new(py);
+    camera.set_item("eye", scene.camera.eye())?;
+    camera.set_item("target", scene.camera.target)?;
+    camera.set_item("fov_y_deg", scene.camera.fov_y_deg)?;
+    d.set_item("camera", camera)?;
+    let mut lights = Vec::new();
+    for light in &scene.lights {
+        let l = PyDict::new(py);
+        match *light {
+            Light::Directional {
+                direction,
+                color,
+                irradiance,
+            } => {
+                l.set_item("kind", "directional")?;
+                l.set_item("direction", DVec3::from(direction).normalize().to_array())?;
+                l.set_item("color", color)?;
+                l.set_item("irradiance", irradiance)?;
+            }
+            Light::Point {
+                position,
+                color,
+                intensity,
+            } => {
+                l.set_item("kind", "point")?;
+                l.set_item("position", position)?;
+                l.set_item("color", color)?;
+                l.set_item("intensity", intensity)?;
+            }
+        }
+        lights.push(l);
+    }
+    d.set_item("lights", lights)?;
+    let m = PyDict::new(py);
+    let v = &mesh.vertices;
+    m.set_item(
+        "positions",
+        matrix(v.iter().map(|v| v.position)).into_pyarray(py),
+    )?;
+    m.set_item(
+        "normals",
+        matrix(v.iter().map(|v| v.normal)).into_pyarray(py),
+    )?;
+    m.set_item(
+        "tangents",
+        matrix(v.iter().map(|v| v.tangent)).into_pyarray(py),
+    )?;
+    m.set_item("uvs", matrix(v.iter().map(|v| v.uv)).into_pyarray(py))?;
+    let faces: Vec<u32> = mesh.indices.clone();
+    let faces = Array2::from_shape_vec((faces.len() / 3, 3), faces).expect("triangles");
+    m.set_item("faces", faces.into_pyarray(py))?;
+    d.set_item("mesh", m)?;
+    Ok(d)
+}
+
+/// The environment map that `--env SOURCE` names (`studio`, `sky`, `overcast`, `interior`,
+/// `uniform`, or an equirectangular `.hdr`/`.exr` file, read and checked as the renderer reads
+/// it) as an (H, W, 3) array of linear radiance: row 0 looks up (+y), and the texel at
+/// (u, v) looks along d with u = 1/2 + atan2(d.x, −d.z)/2π, v = acos(d.y)/π
+/// (docs/file-formats.md#environment-maps).
+#[pyfunction]
+#[pyo3(signature = (source = "studio"))]
+fn environment_map<'py>(py: Python<'py>, source: &str) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    let parsed: EnvironmentSource = source.parse().map_err(error)?;
+    let environment = py
+        .detach(|| parsed.load())
+        .map_err(error)?
+        .ok_or_else(|| error(format!("source: '{source}' is no environment")))?;
+    let level = &environment.levels()[0];
+    let flat: Vec<f32> = level.texels().iter().flatten().copied().collect();
+    let shape = (level.height() as usize, level.width() as usize, 3);
+    Ok(Array3::from_shape_vec(shape, flat)
+        .expect("height rows of width texels")
+        .into_pyarray(py))
+}
+
 /// clothbake's version.
 const VERSION: &str = env!("CARGO_PKG_VERSION");
 
@@ -434,5 +537,7 @@ fn _clothbake(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(load_fabrics, m)?)?;
     m.add_function(wrap_pyfunction!(evaluator_syntaxes, m)?)?;
     m.add_function(wrap_pyfunction!(bake, m)?)?;
+    m.add_function(wrap_pyfunction!(load_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(environment_map, m)?)?;
     Ok(())
 }

@@ -24,9 +24,11 @@ from ._clothbake import (
     Table,
     __version__,
     bake,
+    environment_map,
     evaluator_syntaxes,
     fabric_names,
     load_fabrics,
+    load_scene,
 )
 
 __all__ = [
@@ -36,7 +38,9 @@ __all__ = [
     "Table",
     "__version__",
     "bake",
+    "environment_map",
     "evaluator_syntaxes",
     "fabric_names",
     "load_fabrics",
+    "load_scene",
 ]

@@ -83,3 +83,14 @@ def bake(
 ) -> Table:
     """Bakes ``fabric`` into a table of ``layout`` (default ``thread_frame``) at
     ``resolution`` (default: the layout's), written to ``path`` atomically."""
+
+def load_scene(path: Optional[_Path] = None) -> dict:
+    """The scene ``clothbake render`` draws (built-in, or the scene file at ``path``):
+    ``fabrics``, ``exposure``, ``camera`` (``eye``, ``target``, ``fov_y_deg``; +y up),
+    ``lights`` (dicts by ``kind``), and ``mesh`` arrays: ``positions``, ``normals``,
+    ``tangents`` (N, 3), ``uvs`` (N, 2), ``faces`` (M, 3)."""
+
+def environment_map(source: str = "studio") -> npt.NDArray[np.float32]:
+    """The environment ``--env SOURCE`` names (``studio``, ``sky``, ``overcast``,
+    ``interior``, ``uniform``, or an ``.hdr``/``.exr`` file) as an (H, W, 3) array of linear
+    radiance; row 0 looks up (+y), u = 1/2 + atan2(d.x, -d.z)/2pi, v = acos(d.y)/pi."""
