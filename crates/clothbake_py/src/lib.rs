@@ -98,25 +98,87 @@ fn evaluator_syntaxes() -> Vec<&'static str> {
     evaluator::EVALUATORS.iter().map(|u| u.syntax()).collect()
 }
 
-/// The directions of an (N, 3) array, normalised as every clothbake command reads a
-/// direction (`unit_direction`: finite, not zero, any length).
-fn directions(name: &str, array: &PyArrayLike2<'_, f64, AllowTypeChange>) -> PyResult<Vec<DVec3>> {
-    let shape = array.shape();
-    if shape.len() != 2 || shape[1] != 3 {
-        return Err(error(format!(
-            "{name}: expected an array of shape (N, 3), got {shape:?}"
-        )));
+/// A checked (N, 3) array of directions, read lazily row by row.
+struct Directions<'a> {
+    name: &'static str,
+    /// The rows one after the other: the array's own memory when it is C-contiguous (the
+    /// usual case, read in place), else a copy.
+    flat: std::borrow::Cow<'a, [f64]>,
+}
+
+impl<'a> Directions<'a> {
+    fn new(
+        name: &'static str,
+        array: &'a PyArrayLike2<'_, f64, AllowTypeChange>,
+    ) -> PyResult<Self> {
+        let shape = array.shape();
+        if shape.len() != 2 || shape[1] != 3 {
+            return Err(error(format!(
+                "{name}: expected an array of shape (N, 3), got {shape:?}"
+            )));
+        }
+        let view = array.as_array();
+        let flat = match view.to_slice() {
+            Some(flat) => std::borrow::Cow::Borrowed(flat),
+            None => std::borrow::Cow::Owned(view.iter().copied().collect()),
+        };
+        Ok(Self { name, flat })
     }
-    array
-        .as_array()
-        .rows()
-        .into_iter()
-        .enumerate()
-        .map(|(row, w)| {
-            unit_direction([w[0], w[1], w[2]], name)
-                .map_err(|message| error(format!("row {row}: {message}")))
-        })
-        .collect()
+
+    fn len(&self) -> usize {
+        self.flat.len() / 3
+    }
+
+    /// Row `row` normalised as every clothbake command reads a direction
+    /// (`unit_direction`: finite, not zero, any length).
+    fn read(&self, row: usize) -> Result<DVec3, String> {
+        let w = &self.flat[3 * row..3 * row + 3];
+        unit_direction([w[0], w[1], w[2]], self.name)
+    }
+
+    /// Row `row`, or NaN where it is refused (which `unit_direction` never returns).
+    fn read_or_nan(&self, row: usize) -> DVec3 {
+        self.read(row).unwrap_or(DVec3::NAN)
+    }
+
+    /// The error of the first refused row among `refused` (a refused row reads as NaN).
+    fn refusal(&self, refused: Option<usize>) -> PyResult<()> {
+        match refused {
+            Some(row) => Err(error(format!(
+                "row {row}: {}",
+                self.read(row).err().unwrap_or_default()
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// Every row, on rayon's threads (read on one thread, a million rows would cost a
+    /// third of a table lookup batch).
+    fn all(&self) -> PyResult<Vec<DVec3>> {
+        let rows: Vec<DVec3> = (0..self.len())
+            .into_par_iter()
+            .map(|row| self.read_or_nan(row))
+            .collect();
+        self.refusal(rows.par_iter().position_first(|w| w.is_nan()))?;
+        Ok(rows)
+    }
+}
+
+/// The pairs (a, b) of two arrays of directions of equal length, read together.
+fn direction_pairs(a: &Directions, b: &Directions) -> PyResult<Vec<(DVec3, DVec3)>> {
+    same_length([a.name, b.name], a.len(), b.len())?;
+    let pairs: Vec<(DVec3, DVec3)> = (0..a.len())
+        .into_par_iter()
+        .map(|row| (a.read_or_nan(row), b.read_or_nan(row)))
+        .collect();
+    if let Some(row) = pairs
+        .par_iter()
+        .position_first(|(a, b)| a.is_nan() || b.is_nan())
+    {
+        a.refusal(pairs[row].0.is_nan().then_some(row))?;
+        b.refusal(Some(row))?;
+    }
+    Ok(pairs)
 }
 
 fn same_length(names: [&str; 2], a: usize, b: usize) -> PyResult<()> {
@@ -132,7 +194,8 @@ fn same_length(names: [&str; 2], a: usize, b: usize) -> PyResult<()> {
 
 fn rgb_array(values: Vec<DVec3>) -> Array2<f64> {
     let n = values.len();
-    let flat: Vec<f64> = values.iter().flat_map(|v| v.to_array()).collect();
+    let rows: Vec<[f64; 3]> = values.par_iter().map(|v| v.to_array()).collect();
+    let flat = rows.into_flattened();
     Array2::from_shape_vec((n, 3), flat).expect("n rows of 3")
 }
 
@@ -196,10 +259,9 @@ impl Evaluator {
         wi: PyArrayLike2<'py, f64, AllowTypeChange>,
         wo: PyArrayLike2<'py, f64, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let (wi, wo) = (directions("wi", &wi)?, directions("wo", &wo)?);
-        same_length(["wi", "wo"], wi.len(), wo.len())?;
-        let pairs: Vec<(DVec3, DVec3)> = wi.into_iter().zip(wo).collect();
-        let values = py.detach(|| self.inner.eval_batch(&pairs));
+        let (wi, wo) = (Directions::new("wi", &wi)?, Directions::new("wo", &wo)?);
+        let values = py
+            .detach(|| -> PyResult<_> { Ok(self.inner.eval_batch(&direction_pairs(&wi, &wo)?)) })?;
         Ok(rgb_array(values).into_pyarray(py))
     }
 
@@ -213,7 +275,8 @@ impl Evaluator {
         wo: PyArrayLike2<'py, f64, AllowTypeChange>,
         u: PyArrayLike2<'py, f64, AllowTypeChange>,
     ) -> PyResult<Draws<'py>> {
-        let wo = directions("wo", &wo)?;
+        let wo = Directions::new("wo", &wo)?;
+        let wo = py.detach(|| wo.all())?;
         let shape = u.shape();
         if shape.len() != 2 || shape[1] != 3 {
             return Err(error(format!(
@@ -235,11 +298,14 @@ impl Evaluator {
         same_length(["wo", "u"], wo.len(), u.len())?;
         let sampler = py.detach(|| self.sampler());
         let draws: Vec<(DVec3, f64)> = py.detach(|| {
-            par_map(&wo, &u, |&wo, &u| {
-                sampler
-                    .sample(wo, u)
-                    .map_or((DVec3::ZERO, 0.0), |s| (s.wi, s.pdf))
-            })
+            wo.par_iter()
+                .zip(&u)
+                .map(|(&wo, &u)| {
+                    sampler
+                        .sample(wo, u)
+                        .map_or((DVec3::ZERO, 0.0), |s| (s.wi, s.pdf))
+                })
+                .collect()
         });
         let wi = rgb_array(draws.iter().map(|d| d.0).collect());
         let pdf = Array1::from_iter(draws.iter().map(|d| d.1));
@@ -254,10 +320,15 @@ impl Evaluator {
         wo: PyArrayLike2<'py, f64, AllowTypeChange>,
         wi: PyArrayLike2<'py, f64, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (wo, wi) = (directions("wo", &wo)?, directions("wi", &wi)?);
-        same_length(["wo", "wi"], wo.len(), wi.len())?;
-        let sampler = py.detach(|| self.sampler());
-        let pdf = py.detach(|| par_map(&wo, &wi, |&wo, &wi| sampler.pdf(wo, wi)));
+        let (wo, wi) = (Directions::new("wo", &wo)?, Directions::new("wi", &wi)?);
+        let pdf = py.detach(|| -> PyResult<Vec<f64>> {
+            let sampler = self.sampler();
+            let pairs = direction_pairs(&wo, &wi)?;
+            Ok(pairs
+                .par_iter()
+                .map(|&(wo, wi)| sampler.pdf(wo, wi))
+                .collect())
+        })?;
         Ok(Array1::from_vec(pdf).into_pyarray(py))
     }
 
@@ -269,9 +340,8 @@ impl Evaluator {
         wi: PyArrayLike2<'py, f64, AllowTypeChange>,
         wo: PyArrayLike2<'py, f64, AllowTypeChange>,
     ) -> PyResult<f64> {
-        let (wi, wo) = (directions("wi", &wi)?, directions("wo", &wo)?);
-        same_length(["wi", "wo"], wi.len(), wo.len())?;
-        let pairs: Vec<(DVec3, DVec3)> = wi.into_iter().zip(wo).collect();
+        let (wi, wo) = (Directions::new("wi", &wi)?, Directions::new("wo", &wo)?);
+        let pairs = direction_pairs(&wi, &wo)?;
         Ok(py.detach(|| {
             let start = std::time::Instant::now();
             std::hint::black_box(self.inner.eval_batch(std::hint::black_box(&pairs)));
@@ -282,11 +352,6 @@ impl Evaluator {
     fn __repr__(&self) -> String {
         format!("Evaluator('{}')", self.inner.label())
     }
-}
-
-/// `f` over the pairs of two slices of equal length, in order, on rayon's threads.
-fn par_map<A: Sync, B: Sync, T: Send>(a: &[A], b: &[B], f: impl Fn(&A, &B) -> T + Sync) -> Vec<T> {
-    a.par_iter().zip(b).map(|(a, b)| f(a, b)).collect()
 }
 
 /// A baked table read from its EXR file, with the provenance it records.

@@ -148,3 +148,17 @@ def test_the_gil_is_released_during_a_batch(rng):
     inside = [t for t in ticks if span["start"] < t < span["end"]]
     assert span["end"] - span["start"] > 0.05, "batch too short to tell"
     assert len(inside) >= 10, f"{len(inside)} ticks in a {span['end'] - span['start']:.2f} s batch"
+
+
+def test_any_array_layout_and_float_type_reads_the_same(rng):
+    """C-contiguous float64 rows are read in place; strided, Fortran-ordered and float32
+    arrays and nested lists are read through a copy, to the same values."""
+    evaluator = DIRECT()
+    wi, wo = unit_rows(rng, 40, upper=True), unit_rows(rng, 40, upper=True)
+    expected = evaluator.eval(wi, wo)
+    doubled = np.repeat(wi, 2, axis=0)[::2]
+    assert not doubled.flags.c_contiguous
+    np.testing.assert_array_equal(evaluator.eval(doubled, wo), expected)
+    np.testing.assert_array_equal(evaluator.eval(np.asfortranarray(wi), wo.tolist()), expected)
+    single = evaluator.eval(wi.astype(np.float32), wo)
+    np.testing.assert_allclose(single, evaluator.eval(wi.astype(np.float32).astype(np.float64), wo))
