@@ -3,7 +3,9 @@ Mitsuba's own chi-square test (``mitsuba.chi2``), for every fabric."""
 
 import math
 import os
+import pathlib
 
+import numpy as np
 import pytest
 
 
@@ -50,8 +52,6 @@ def test_the_plugin_loads_by_name_from_a_dict_and_from_xml(tables):
 def test_eval_is_clothbake_s_f_with_light_and_view_swapped_and_two_sided(tables):
     """Mitsuba's eval(si.wi = view, wo = light) is F(wi = light, wo = view); seen from below
     the pair is mirrored (x, y, z) -> (x, -y, -z)."""
-    import numpy as np
-
     table = str(tables / "polyester_satin_charmeuse.exr")
     bsdf = mi.load_dict({"type": "clothbake", "fabric": "polyester_satin_charmeuse", "table": table})
     evaluator = clothbake.Evaluator(clothbake.Fabric.builtin("polyester_satin_charmeuse"), f"table:{table}")
@@ -104,3 +104,17 @@ def test_the_sampler_passes_mitsuba_s_chi_square_test(tables, fabric, view):
     )
     # Šidák-corrected over every case of this test, as Mitsuba's own BSDF tests correct.
     assert chi2.run(significance_level=0.01, test_count=len(CASES)), chi2.messages
+
+
+def test_the_example_scene_file_renders(tables):
+    """examples/sphere.xml (docs/python.md) with a small table, at 4 draws per pixel."""
+    dr.set_flag(dr.JitFlag.SymbolicLoops, False)
+    dr.set_flag(dr.JitFlag.SymbolicCalls, False)
+    scene = mi.load_file(
+        str(pathlib.Path(__file__).parents[1] / "examples" / "sphere.xml"),
+        table=str(tables / "velvet.exr"),
+        spp=4,
+    )
+    image = np.array(mi.render(scene))
+    assert image.shape == (128, 128, 3)
+    assert np.isfinite(image).all() and image.max() > 0
