@@ -192,6 +192,7 @@ fn same_length(names: [&str; 2], a: usize, b: usize) -> PyResult<()> {
     }
 }
 
+/// RGB values as an (N, 3) array.
 fn rgb_array(values: Vec<DVec3>) -> Array2<f64> {
     let n = values.len();
     let rows: Vec<[f64; 3]> = values.par_iter().map(|v| v.to_array()).collect();
