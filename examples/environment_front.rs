@@ -3,11 +3,12 @@
 //! and without the map's compact bright sources lit as lights (docs/sampling.md#measured).
 //!
 //! ```sh
-//! cargo run --profile ci --example environment_front -- [SIZE] [REFERENCE_SAMPLES] [TIME_SIZE] [ENVS] [FABRICS]
+//! cargo run --profile ci --example environment_front -- [SIZE] [REFERENCE_SAMPLES] [TIME_SIZE] [ENVS] [FABRICS] [lights]
 //! ```
 //!
 //! Defaults: 128, 1024, 0, every built-in environment, every fabric of the built-in scene
-//! (ENVS and FABRICS comma-separated). Each fabric's table from `tables/` (bake first), the environment alone (no scene lights),
+//! (ENVS and FABRICS comma-separated). Each fabric's table from `tables/` (bake first), the
+//! environment alone (with the scene's two lights as well when the last argument is `lights`),
 //! the built-in scene's camera and drape. One CPU reference per fabric and environment
 //! (direct evaluation's resonant quadrature, the map by multiple importance sampling), and a
 //! second at a quarter of its samples, whose distance from the first gives the reference's own
@@ -44,15 +45,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let environments = list(4);
     let fabrics = list(5);
+    let with_lights = std::env::args().nth(6).is_some_and(|a| a == "lights");
     let mut scene = Scene::builtin();
-    scene.lights.clear();
+    if !with_lights {
+        scene.lights.clear();
+    }
     let set = FabricSet::load_or_builtin(None)?;
     let mesh = Mesh::from_spec(&scene.mesh)?;
     let context = GpuContext::new()?;
     println!("adapter: {}", context.adapter);
     println!(
         "{size}² image, reference of {reference_samples} MIS pairs per pixel; error: relative \
-         L2 of linear radiance, environment alone"
+         L2 of linear radiance, {}",
+        if with_lights {
+            "environment and the scene's lights"
+        } else {
+            "environment alone"
+        }
     );
     let evaluator = TableLookup { path: None };
     let settings = FrameSettings::from_scene(&scene);
