@@ -192,8 +192,8 @@ fn same_length(names: [&str; 2], a: usize, b: usize) -> PyResult<()> {
     }
 }
 
-/// RGB values as an (N, 3) array.
-fn rgb_array(values: Vec<DVec3>) -> Array2<f64> {
+/// Vectors (RGB values, directions) as the rows of an (N, 3) array.
+fn rows_array(values: Vec<DVec3>) -> Array2<f64> {
     let n = values.len();
     let rows: Vec<[f64; 3]> = values.par_iter().map(|v| v.to_array()).collect();
     let flat = rows.into_flattened();
@@ -252,8 +252,8 @@ impl Evaluator {
     }
 
     /// F(wi, wo) (RGB, cosines included, shape (N, 3)) for each row of `wi` (towards the
-    /// light) and `wo` (towards the viewer), directions in the cloth frame (normalised as read); 0 where either
-    /// is on or below the horizon.
+    /// light) and `wo` (towards the viewer), directions in the cloth frame, normalised as
+    /// read; 0 where either is on or below the horizon.
     fn eval<'py>(
         &self,
         py: Python<'py>,
@@ -263,7 +263,7 @@ impl Evaluator {
         let (wi, wo) = (Directions::new("wi", &wi)?, Directions::new("wo", &wo)?);
         let values = py
             .detach(|| -> PyResult<_> { Ok(self.inner.eval_batch(&direction_pairs(&wi, &wo)?)) })?;
-        Ok(rgb_array(values).into_pyarray(py))
+        Ok(rows_array(values).into_pyarray(py))
     }
 
     /// Directions drawn for each row of `wo` from three uniform numbers in [0, 1) per row
@@ -294,7 +294,10 @@ impl Evaluator {
             .iter()
             .position(|r| r.iter().any(|x| !(0.0..1.0).contains(x)))
         {
-            return Err(error(format!("u row {row}: {:?} is not in [0, 1)", u[row])));
+            return Err(error(format!(
+                "row {row}: u = {:?} is not in [0, 1)",
+                u[row]
+            )));
         }
         same_length(["wo", "u"], wo.len(), u.len())?;
         let sampler = py.detach(|| self.sampler());
@@ -308,7 +311,7 @@ impl Evaluator {
                 })
                 .collect()
         });
-        let wi = rgb_array(draws.iter().map(|d| d.0).collect());
+        let wi = rows_array(draws.iter().map(|d| d.0).collect());
         let pdf = Array1::from_iter(draws.iter().map(|d| d.1));
         Ok((wi.into_pyarray(py), pdf.into_pyarray(py)))
     }

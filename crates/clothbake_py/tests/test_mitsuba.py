@@ -8,7 +8,6 @@ import pathlib
 import numpy as np
 import pytest
 
-
 os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM-15.so.1")
 import drjit as dr  # noqa: E402
 import mitsuba as mi  # noqa: E402
@@ -53,8 +52,12 @@ def test_eval_is_clothbake_s_f_with_light_and_view_swapped_and_two_sided(tables)
     """Mitsuba's eval(si.wi = view, wo = light) is F(wi = light, wo = view); seen from below
     the pair is mirrored (x, y, z) -> (x, -y, -z)."""
     table = str(tables / "polyester_satin_charmeuse.exr")
-    bsdf = mi.load_dict({"type": "clothbake", "fabric": "polyester_satin_charmeuse", "table": table})
-    evaluator = clothbake.Evaluator(clothbake.Fabric.builtin("polyester_satin_charmeuse"), f"table:{table}")
+    bsdf = mi.load_dict(
+        {"type": "clothbake", "fabric": "polyester_satin_charmeuse", "table": table}
+    )
+    evaluator = clothbake.Evaluator(
+        clothbake.Fabric.builtin("polyester_satin_charmeuse"), f"table:{table}"
+    )
     view = np.array([0.5, 0.3, math.sqrt(1 - 0.34)])
     light = np.array([-0.4, -0.2, math.sqrt(1 - 0.2)])
     expected = evaluator.eval(light[None], view[None])[0]
@@ -86,7 +89,11 @@ def drawn_directions(bsdf, wi):
 @pytest.mark.parametrize("fabric, view", CASES, ids=[f"{f}-{e}deg-{a}" for f, (e, a) in CASES])
 def test_the_sampler_passes_mitsuba_s_chi_square_test(tables, fabric, view):
     elevation, azimuth = (math.radians(x) for x in view)
-    wi = [math.cos(elevation) * math.cos(azimuth), math.cos(elevation) * math.sin(azimuth), math.sin(elevation)]
+    wi = [
+        math.cos(elevation) * math.cos(azimuth),
+        math.cos(elevation) * math.sin(azimuth),
+        math.sin(elevation),
+    ]
     extra = f'<string name="fabric" value="{fabric}"/><string name="table" value="{tables / (fabric + ".exr")}"/>'
     _, pdf_func = BSDFAdapter("clothbake", extra, wi=wi)
     bsdf = mi.load_string(f'<bsdf version="3.0.0" type="clothbake">{extra}</bsdf>')

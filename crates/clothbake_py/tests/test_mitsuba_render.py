@@ -90,7 +90,11 @@ def drape(fabric, table, emitter, spp, seed):
         has_vertex_texcoords=True,
     )
     params = mi.traverse(mesh)
-    for key, name in [("vertex_positions", "positions"), ("vertex_normals", "normals"), ("vertex_texcoords", "uvs")]:
+    for key, name in [
+        ("vertex_positions", "positions"),
+        ("vertex_normals", "normals"),
+        ("vertex_texcoords", "uvs"),
+    ]:
         params[key] = mi.Float(mesh_arrays[name].astype(np.float32).ravel())
     params["faces"] = mi.UInt32(mesh_arrays["faces"].astype(np.uint32).ravel())
     params.update()
@@ -102,8 +106,15 @@ def drape(fabric, table, emitter, spp, seed):
                 "type": "perspective",
                 "fov": camera["fov_y_deg"],
                 "fov_axis": "y",
-                "to_world": mi.ScalarTransform4f().look_at(origin=camera["eye"], target=camera["target"], up=[0, 1, 0]),
-                "film": {"type": "hdrfilm", "width": SIZE, "height": SIZE, "rfilter": {"type": "box"}},
+                "to_world": mi.ScalarTransform4f().look_at(
+                    origin=camera["eye"], target=camera["target"], up=[0, 1, 0]
+                ),
+                "film": {
+                    "type": "hdrfilm",
+                    "width": SIZE,
+                    "height": SIZE,
+                    "rfilter": {"type": "box"},
+                },
                 "sampler": {"type": "independent", "sample_count": spp},
             },
             "cloth": mesh,
@@ -117,9 +128,26 @@ def run_render(tmp, fabric, size, args):
     """`clothbake render` of one fabric at size², its output."""
     binary = os.environ.get("CLOTHBAKE_BIN", str(ROOT / "target" / "ci" / "clothbake"))
     done = subprocess.run(
-        [binary, "render", "--tables", str(tmp), "--fabric", fabric, "--width", str(size),
-         "--height", str(size), "--frames", "1", "--out", str(tmp / "clothbake.png"), *args],
-        capture_output=True, text=True, cwd=ROOT,
+        [
+            binary,
+            "render",
+            "--tables",
+            str(tmp),
+            "--fabric",
+            fabric,
+            "--width",
+            str(size),
+            "--height",
+            str(size),
+            "--frames",
+            "1",
+            "--out",
+            str(tmp / "clothbake.png"),
+            *args,
+        ],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
     )
     assert done.returncode == 0, done.stderr
     return done.stdout
@@ -172,14 +200,22 @@ def test_one_directional_light_matches_mitsuba(tables, tmp_path, fabric):
     (tmp_path / "key.toml").write_text(text[:start] + text[end:])
     for exr in tables.glob("*.exr"):
         (tmp_path / exr.name).symlink_to(exr)
-    ours, mask, log = clothbake_render(tmp_path, fabric, ["--scene", str(tmp_path / "key.toml"), "--env", "none"])
-    emitter = {"type": "directional", "direction": [-x for x in key["direction"]], "irradiance": key["irradiance"]}
+    ours, mask, log = clothbake_render(
+        tmp_path, fabric, ["--scene", str(tmp_path / "key.toml"), "--env", "none"]
+    )
+    emitter = {
+        "type": "directional",
+        "direction": [-x for x in key["direction"]],
+        "irradiance": key["irradiance"],
+    }
     theirs = [drape(fabric, tables / f"{fabric}.exr", emitter, 256, seed) for seed in (1, 2)]
     noise = relative_l2(theirs[0], theirs[1], mask) / math.sqrt(2)
     error = relative_l2(theirs[0], ours, mask)
     bound = math.hypot(2 * noise, SYSTEMATIC)
-    print(f"{log.splitlines()[0]}\n{fabric}, key light: clothbake render against Mitsuba {100 * error:.2f}% "
-          f"over {mask.sum()} pixels (Mitsuba's noise {100 * noise:.2f}%), bound {100 * bound:.2f}%")
+    print(
+        f"{log.splitlines()[0]}\n{fabric}, key light: clothbake render against Mitsuba {100 * error:.2f}% "
+        f"over {mask.sum()} pixels (Mitsuba's noise {100 * noise:.2f}%), bound {100 * bound:.2f}%"
+    )
     assert error <= bound
 
 
@@ -194,7 +230,9 @@ def test_the_studio_environment_matches_mitsuba(tables, tmp_path, fabric):
         (tmp_path / exr.name).symlink_to(exr)
     studio_alone = ["--env", "studio", "--no-lights", "--env-samples", "64"]
     ours, mask, log = clothbake_render(tmp_path, fabric, studio_alone)
-    checked = run_render(tmp_path, fabric, SIZE, [*studio_alone, "--reference", "--reference-samples", "256"])
+    checked = run_render(
+        tmp_path, fabric, SIZE, [*studio_alone, "--reference", "--reference-samples", "256"]
+    )
     own = float(re.search(r"relative L2 ([0-9.]+)%", checked).group(1)) / 100
     studio = clothbake.environment_map("studio")
     # Mitsuba's envmap puts u = 0 where clothbake's map has u = 1/2 (both look along −z at
@@ -206,7 +244,9 @@ def test_the_studio_environment_matches_mitsuba(tables, tmp_path, fabric):
     noise = relative_l2(theirs[0], theirs[1], mask) / math.sqrt(2)
     error = relative_l2(theirs[0], ours, mask)
     bound = math.sqrt(own**2 + (2 * noise) ** 2 + SYSTEMATIC**2)
-    print(f"{log.splitlines()[0]}\n{fabric}, studio: clothbake render against Mitsuba {100 * error:.2f}% "
-          f"(against clothbake's CPU reference {100 * own:.2f}%; Mitsuba's noise {100 * noise:.2f}%), "
-          f"bound {100 * bound:.2f}%")
+    print(
+        f"{log.splitlines()[0]}\n{fabric}, studio: clothbake render against Mitsuba {100 * error:.2f}% "
+        f"(against clothbake's CPU reference {100 * own:.2f}%; Mitsuba's noise {100 * noise:.2f}%), "
+        f"bound {100 * bound:.2f}%"
+    )
     assert error <= bound

@@ -20,6 +20,7 @@ class Fabric:
     @staticmethod
     def builtin(name: str) -> Fabric:
         """The built-in fabric ``name`` (one of ``fabric_names()``)."""
+
     @property
     def name(self) -> str: ...
 
@@ -28,22 +29,28 @@ class Evaluator:
     that fits it. ``evaluator`` is spelled as on every clothbake command; ``table`` without a
     path reads ``TABLES/NAME.exr``."""
 
-    def __init__(self, fabric: Fabric, evaluator: str = "direct", tables: _Path = "tables") -> None: ...
+    def __init__(
+        self, fabric: Fabric, evaluator: str = "direct", tables: _Path = "tables"
+    ) -> None: ...
     @property
     def spelling(self) -> str:
         """The spelling that parses back to this evaluator (``paper:32``)."""
+
     @property
     def label(self) -> str:
         """A short description (``table thread_frame R=48``)."""
+
     def eval(self, wi: _Directions, wo: _Directions) -> npt.NDArray[np.float64]:
         """F(wi, wo) per row, RGB, shape (N, 3); 0 where either direction is on or below
         the horizon. The GIL is released while the batch runs."""
+
     def sample(
         self, wo: _Directions, u: npt.ArrayLike
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """Directions wi (N, 3) drawn for each wo from three uniform numbers in [0, 1) per
         row of u, and pdf(wi | wo) per unit solid angle (N,); a rejected draw has wi = 0 and
         pdf = 0."""
+
     def pdf(self, wo: _Directions, wi: _Directions) -> npt.NDArray[np.float64]:
         """pdf(wi | wo) per unit solid angle, shape (N,); 0 unless both are above the
         horizon."""
@@ -66,6 +73,7 @@ class Table:
     def check(self, pairs: int = 20000) -> dict[str, dict[str, float]]:
         """The table's error against the direct evaluation of its fabric (as ``clothbake
         check``): per pair set, ``relative_rms``, ``max_abs`` and ``max_abs_at_value``."""
+
     def evaluator(self) -> Evaluator:
         """``Evaluator(self.fabric, "table:PATH")``."""
 

@@ -54,37 +54,30 @@ def _fabric(props):
     raise ClothbakeError(f"clothbake BSDF: fabric '{name}' is not in {path}")
 
 
+_MIRROR = np.array([1.0, -1.0, -1.0])
+
+
 def _rows(vector, n):
     """A Dr.Jit Vector3f as an (n, 3) float64 array (a literal of width 1 repeated)."""
     rows = np.asarray(vector.numpy(), dtype=np.float64).T.reshape(-1, 3)
     return np.array(np.broadcast_to(rows, (n, 3)))
 
 
-def _upper(si_wi, wo):
-    """The pair mirrored into the hemisphere the viewer is in: (x, y, z) -> (x, -y, -z) for
-    the rows whose view direction is below the surface (two-sided cloth)."""
-    n = max(dr.width(si_wi), dr.width(wo))
+def _pair(si_wi, wo, n=1):
+    """The view and light directions as (N, 3) arrays in clothbake's terms, N the widest of
+    them and n. Rows whose view is below the surface are mirrored into the hemisphere the
+    viewer is in, (x, y, z) -> (x, -y, -z) (two-sided cloth; `below` marks them). Dr.Jit
+    pads lanes it does not use with zero vectors, which clothbake refuses: those rows become
+    +z, and `usable` is False there."""
+    n = max(dr.width(si_wi), dr.width(wo), n)
     view, light = _rows(si_wi, n), _rows(wo, n)
     below = view[:, 2] < 0
-    mirror = np.array([1.0, -1.0, -1.0])
-    view[below] *= mirror
-    light[below] *= mirror
-    return view, light, below
-
-
-def _mirror_back(w, below):
-    w = w.copy()
-    w[below] *= np.array([1.0, -1.0, -1.0])
-    return w
-
-
-def _safe(w):
-    """Rows usable as directions: a zero row (Dr.Jit's padding, a rejected draw) becomes +z,
-    whose results the caller then masks."""
-    zero = ~np.any(w != 0, axis=1)
-    w = w.copy()
-    w[zero] = (0.0, 0.0, 1.0)
-    return w, zero
+    view[below] *= _MIRROR
+    light[below] *= _MIRROR
+    usable = np.any(view != 0, axis=1) & np.any(light != 0, axis=1)
+    view[~usable] = (0.0, 0.0, 1.0)
+    light[~usable] = (0.0, 0.0, 1.0)
+    return view, light, usable, below
 
 
 # One evaluator (and its sampler, built on first use in a second or two) per fabric and
@@ -112,48 +105,40 @@ class ClothbakeBSDF(mi.BSDF):
         self.m_flags = _FLAGS
         self.m_components = [_FLAGS]
 
-    def _f(self, view, light):
-        view, zero_v = _safe(view)
-        light, zero_l = _safe(light)
-        f = self.evaluator.eval(light, view)
-        f[zero_v | zero_l] = 0.0
-        return f
-
     def eval(self, ctx, si, wo, active=True):
-        view, light, _ = _upper(si.wi, wo)
-        return mi.Color3f(self._f(view, light).T.astype(np.float32))
+        view, light, usable, _ = _pair(si.wi, wo)
+        f = self.evaluator.eval(light, view)
+        f[~usable] = 0.0
+        return mi.Color3f(f.T.astype(np.float32))
 
     def pdf(self, ctx, si, wo, active=True):
-        view, light, _ = _upper(si.wi, wo)
-        view, zero_v = _safe(view)
-        light, zero_l = _safe(light)
+        view, light, usable, _ = _pair(si.wi, wo)
         pdf = self.evaluator.pdf(view, light)
-        pdf[zero_v | zero_l] = 0.0
+        pdf[~usable] = 0.0
         return mi.Float(pdf.astype(np.float32))
 
     def eval_pdf(self, ctx, si, wo, active=True):
         return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
     def sample(self, ctx, si, sample1, sample2, active=True):
-        n = max(dr.width(si.wi), dr.width(sample1), dr.width(sample2))
-        view, _, below = _upper(si.wi, dr.zeros(mi.Vector3f, n))
-        view, zero_v = _safe(view)
+        n = max(dr.width(sample1), dr.width(sample2))
+        view, _, usable, below = _pair(si.wi, si.wi, n)
+        n = len(view)
         xy = np.asarray(sample2.numpy(), dtype=np.float64).reshape(2, -1)
-        u = np.stack(
-            [np.broadcast_to(xy[0], (n,)), np.broadcast_to(xy[1], (n,)),
-             np.broadcast_to(np.asarray(sample1.numpy(), dtype=np.float64), (n,))],
-            axis=1,
-        )
+        z = np.asarray(sample1.numpy(), dtype=np.float64)
+        u = np.stack([np.broadcast_to(c, (n,)) for c in (xy[0], xy[1], z)], axis=1)
         # Dr.Jit's samples are in [0, 1); float32 rounding can reach 1 exactly.
         u = np.minimum(u, np.nextafter(1.0, 0.0))
         light, pdf = self.evaluator.sample(view, u)
-        pdf[zero_v] = 0.0
-        drawn = pdf > 0
-        f = self._f(view, np.where(drawn[:, None], light, 0.0))
+        drawn = usable & (pdf > 0)
+        # A rejected draw has wi = 0: read +z in its place, then masked.
+        light_read = np.where(drawn[:, None], light, (0.0, 0.0, 1.0))
+        f = self.evaluator.eval(light_read, view)
         weight = np.where(drawn[:, None], f / np.where(drawn, pdf, 1.0)[:, None], 0.0)
-        bs = dr.zeros(mi.BSDFSample3f, len(pdf))
-        bs.wo = mi.Vector3f(_mirror_back(light, below).T.astype(np.float32))
-        bs.pdf = mi.Float(pdf.astype(np.float32))
+        light[below] *= _MIRROR
+        bs = dr.zeros(mi.BSDFSample3f, n)
+        bs.wo = mi.Vector3f(light.T.astype(np.float32))
+        bs.pdf = mi.Float(np.where(drawn, pdf, 0.0).astype(np.float32))
         bs.eta = 1.0
         bs.sampled_type = mi.UInt32(int(mi.BSDFFlags.GlossyReflection))
         bs.sampled_component = 0
