@@ -98,6 +98,17 @@ fn evaluator_syntaxes() -> Vec<&'static str> {
     evaluator::EVALUATORS.iter().map(|u| u.syntax()).collect()
 }
 
+/// Refuses an array `name` whose shape is not (N, 3).
+fn three_columns(name: &str, shape: &[usize]) -> PyResult<()> {
+    if shape.len() == 2 && shape[1] == 3 {
+        Ok(())
+    } else {
+        Err(error(format!(
+            "{name}: expected an array of shape (N, 3), got {shape:?}"
+        )))
+    }
+}
+
 /// A checked (N, 3) array of directions, read lazily row by row.
 struct Directions<'a> {
     name: &'static str,
@@ -111,12 +122,7 @@ impl<'a> Directions<'a> {
         name: &'static str,
         array: &'a PyArrayLike2<'_, f64, AllowTypeChange>,
     ) -> PyResult<Self> {
-        let shape = array.shape();
-        if shape.len() != 2 || shape[1] != 3 {
-            return Err(error(format!(
-                "{name}: expected an array of shape (N, 3), got {shape:?}"
-            )));
-        }
+        three_columns(name, array.shape())?;
         let view = array.as_array();
         let flat = match view.to_slice() {
             Some(flat) => std::borrow::Cow::Borrowed(flat),
@@ -179,6 +185,18 @@ fn direction_pairs(a: &Directions, b: &Directions) -> PyResult<Vec<(DVec3, DVec3
         b.refusal(Some(row))?;
     }
     Ok(pairs)
+}
+
+/// `batch` of the pairs of rows of two arrays of directions, read by [`direction_pairs`],
+/// with the GIL released.
+fn over_pairs<T: Send>(
+    py: Python<'_>,
+    (a_name, a): (&'static str, &PyArrayLike2<'_, f64, AllowTypeChange>),
+    (b_name, b): (&'static str, &PyArrayLike2<'_, f64, AllowTypeChange>),
+    batch: impl FnOnce(&[(DVec3, DVec3)]) -> T + Send,
+) -> PyResult<T> {
+    let (a, b) = (Directions::new(a_name, a)?, Directions::new(b_name, b)?);
+    py.detach(|| Ok(batch(&direction_pairs(&a, &b)?)))
 }
 
 fn same_length(names: [&str; 2], a: usize, b: usize) -> PyResult<()> {
@@ -260,9 +278,9 @@ impl Evaluator {
         wi: PyArrayLike2<'py, f64, AllowTypeChange>,
         wo: PyArrayLike2<'py, f64, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let (wi, wo) = (Directions::new("wi", &wi)?, Directions::new("wo", &wo)?);
-        let values = py
-            .detach(|| -> PyResult<_> { Ok(self.inner.eval_batch(&direction_pairs(&wi, &wo)?)) })?;
+        let values = over_pairs(py, ("wi", &wi), ("wo", &wo), |pairs| {
+            self.inner.eval_batch(pairs)
+        })?;
         Ok(rows_array(values).into_pyarray(py))
     }
 
@@ -278,12 +296,7 @@ impl Evaluator {
     ) -> PyResult<Draws<'py>> {
         let wo = Directions::new("wo", &wo)?;
         let wo = py.detach(|| wo.all())?;
-        let shape = u.shape();
-        if shape.len() != 2 || shape[1] != 3 {
-            return Err(error(format!(
-                "u: expected an array of shape (N, 3), got {shape:?}"
-            )));
-        }
+        three_columns("u", u.shape())?;
         let u: Vec<[f64; 3]> = u
             .as_array()
             .rows()
@@ -300,8 +313,8 @@ impl Evaluator {
             )));
         }
         same_length(["wo", "u"], wo.len(), u.len())?;
-        let sampler = py.detach(|| self.sampler());
         let draws: Vec<(DVec3, f64)> = py.detach(|| {
+            let sampler = self.sampler();
             wo.par_iter()
                 .zip(&u)
                 .map(|(&wo, &u)| {
@@ -324,14 +337,12 @@ impl Evaluator {
         wo: PyArrayLike2<'py, f64, AllowTypeChange>,
         wi: PyArrayLike2<'py, f64, AllowTypeChange>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (wo, wi) = (Directions::new("wo", &wo)?, Directions::new("wi", &wi)?);
-        let pdf = py.detach(|| -> PyResult<Vec<f64>> {
+        let pdf = over_pairs(py, ("wo", &wo), ("wi", &wi), |pairs| {
             let sampler = self.sampler();
-            let pairs = direction_pairs(&wo, &wi)?;
-            Ok(pairs
+            pairs
                 .par_iter()
                 .map(|&(wo, wi)| sampler.pdf(wo, wi))
-                .collect())
+                .collect::<Vec<f64>>()
         })?;
         Ok(Array1::from_vec(pdf).into_pyarray(py))
     }
@@ -344,13 +355,11 @@ impl Evaluator {
         wi: PyArrayLike2<'py, f64, AllowTypeChange>,
         wo: PyArrayLike2<'py, f64, AllowTypeChange>,
     ) -> PyResult<f64> {
-        let (wi, wo) = (Directions::new("wi", &wi)?, Directions::new("wo", &wo)?);
-        let pairs = direction_pairs(&wi, &wo)?;
-        Ok(py.detach(|| {
+        over_pairs(py, ("wi", &wi), ("wo", &wo), |pairs| {
             let start = std::time::Instant::now();
-            std::hint::black_box(self.inner.eval_batch(std::hint::black_box(&pairs)));
+            std::hint::black_box(self.inner.eval_batch(std::hint::black_box(pairs)));
             start.elapsed().as_secs_f64()
-        }))
+        })
     }
 
     fn __repr__(&self) -> String {
