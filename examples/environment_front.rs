@@ -17,7 +17,7 @@
 //! of 5 frames on whatever adapter wgpu finds, of the built-in scene (its lights) with the sky.
 
 use clothbake::evaluator::table::TableLookup;
-use clothbake::evaluator::{EvaluationContext, Evaluator, GpuOptions};
+use clothbake::evaluator::{EvaluationContext, Evaluator};
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::gpu::{GpuContext, GpuSampler};
 use clothbake::lighting::GeneratedEnvironment;
@@ -89,7 +89,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for name in fabrics.as_ref().unwrap_or(&scene.fabrics) {
             let fabric = set.require(name)?;
             let evaluation = evaluator.prepare(fabric, &EvaluationContext::default())?;
-            let brdf = evaluation.gpu(&context, GpuOptions::default())?;
+            let brdf = evaluation.gpu(&context)?;
             let sampler = evaluation.sampler();
             let gpu_sampler = GpuSampler::new(&context, &sampler)?;
             let mut headless = Headless::new(&context, &mesh, brdf.as_ref(), size, size)?;
@@ -138,7 +138,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let map = GeneratedEnvironment::Sky.environment();
         let fabric = set.require(&full.fabrics[0])?;
         let evaluation = evaluator.prepare(fabric, &EvaluationContext::default())?;
-        let brdf = evaluation.gpu(&context, GpuOptions::default())?;
+        let brdf = evaluation.gpu(&context)?;
         let gpu_sampler = GpuSampler::new(&context, &evaluation.sampler())?;
         let mut headless = Headless::new(&context, &mesh, brdf.as_ref(), time_size, time_size)?;
         let time = |headless: &Headless,

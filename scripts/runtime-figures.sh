@@ -10,9 +10,7 @@
 # only (--env none): the environment light is measured by examples/environment_front.rs.
 # Needs the default tables (clothbake bake). With ALT_TABLES=DIR (tables of another layout,
 # e.g. `clothbake bake --layout split_frame --out DIR`), the lookup from those tables is
-# rendered in the same rounds and reported in three more columns (split_frame as `render`
-# builds it by default, `--horizon-band auto`: without its horizon band on a software
-# adapter). Prints a Markdown table.
+# rendered in the same rounds and reported in three more columns. Prints a Markdown table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=target/release/clothbake

@@ -1,13 +1,10 @@
 // Layout split_frame: the lookup of src/table/split_frame.rs (module doc,
 // `Geometry::terms`), after shaders/table/lookup.wgsl, shaders/table/thread_geometry.wgsl
-// (the sloped segments' tables), shaders/model/tangent_sample.wgsl (one tangent sample, for
-// the point masses) and shaders/model/resonant_quadrature.wgsl (the sloped segments of pairs
-// in the horizon band; its rules are the generated module `resonant_rules`, which the
-// layout's `TableLookup::wgsl_modules` provides, and it stays in the module, uncalled, where
-// the lookup leaves the band out).
+// (the sloped segments' tables) and shaders/model/tangent_sample.wgsl (one tangent sample,
+// for the point masses).
 //
 // requires: table/lookup, table/thread_geometry, model/tangent_sample,
-// requires: model/resonant_quadrature, table_constants
+// requires: table_constants
 //
 // The generated `table_constants` declare the textures of the threads that have sloped
 // segments and define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap) and

@@ -59,14 +59,11 @@ pub struct BakeRequest {
     pub force: bool,
 }
 
-/// The table layout baked when neither the options nor the scene name one.
-pub const DEFAULT_LAYOUT: Layout = Layout::THREAD_FRAME;
-
 impl BakeRequest {
     /// The job the bake policy makes of this request:
     /// - fabrics: the scene's (when a scene is given) or the ones named, else every fabric of
     ///   the fabric file (the option's, else the scene's, else the built-in one);
-    /// - layout: the option's, else the scene's, else [`DEFAULT_LAYOUT`];
+    /// - layout: the option's, else the scene's, else [`Layout::DEFAULT`];
     /// - resolution: a fixed `resolution` wins; else the smallest meeting `max_error` (the
     ///   option's, else the scene budget's); else the largest within the scene's bytes per
     ///   fabric; else the layout's default.
@@ -80,7 +77,7 @@ impl BakeRequest {
         let fabrics = set.select(names)?;
         let layout = self
             .layout
-            .unwrap_or_else(|| scene.map_or(DEFAULT_LAYOUT, |s| s.layout_or(DEFAULT_LAYOUT)));
+            .unwrap_or_else(|| scene.map_or(Layout::DEFAULT, |s| s.layout_or(Layout::DEFAULT)));
         let budget = scene.map(|s| s.budget).unwrap_or_default();
         let resolution = match (
             self.resolution,

@@ -111,34 +111,6 @@ mod runtime {
     use clothbake::scene::{MAX_ENVIRONMENT_SAMPLES, Scene, SceneError};
     use std::path::PathBuf;
 
-    /// How `render` and `view` build a table's lookup shader.
-    #[derive(clap::Args)]
-    pub struct LookupArgs {
-        /// split_frame's horizon band (the resonant quadrature for pairs within 1° of the
-        /// horizon): auto leaves it out on a software rasteriser (lavapipe), which runs its
-        /// kernel in every pixel, and keeps it on a GPU.
-        #[arg(long, value_enum, default_value_t = HorizonBandArg::Auto)]
-        horizon_band: HorizonBandArg,
-    }
-
-    #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-    enum HorizonBandArg {
-        Auto,
-        On,
-        Off,
-    }
-
-    impl LookupArgs {
-        /// `LookupShaderOptions::for_adapter`'s choice: `None` for auto.
-        pub fn horizon_band(&self) -> Option<bool> {
-            match self.horizon_band {
-                HorizonBandArg::Auto => None,
-                HorizonBandArg::On => Some(true),
-                HorizonBandArg::Off => Some(false),
-            }
-        }
-    }
-
     /// What `render` and `view` show: a scene, its tables and optionally a user's mesh.
     #[derive(clap::Args)]
     pub struct SceneArgs {

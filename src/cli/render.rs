@@ -1,12 +1,12 @@
 //! `clothbake render`: the scene's cloth rendered headless to PNG.
 
 use super::CommandResult;
-use super::options::{LookupArgs, NodeArgs, SceneArgs, ShaderArg, UsageError};
+use super::options::{NodeArgs, SceneArgs, ShaderArg, UsageError};
 use clothbake::evaluator::constant::Constant;
 use clothbake::evaluator::paper::Paper;
 use clothbake::evaluator::resonant::Resonant;
 use clothbake::evaluator::table::TableLookup;
-use clothbake::evaluator::{Evaluator, EvaluatorSpec, GpuOptions};
+use clothbake::evaluator::{Evaluator, EvaluatorSpec};
 use clothbake::gpu::direct::DEFAULT_SAMPLES;
 use clothbake::render::job::{self, RenderJob};
 use std::path::PathBuf;
@@ -54,8 +54,6 @@ pub struct Args {
     /// file of f16 RGBA beside each PNG (STEM.exr; alpha 1 on cloth, 0 on background).
     #[arg(long)]
     linear: bool,
-    #[command(flatten)]
-    lookup: LookupArgs,
 }
 
 /// The evaluator that `--shader`, `--samples` and the node options select.
@@ -92,9 +90,6 @@ pub fn run(args: Args) -> CommandResult {
         height: args.height,
         frames: args.frames,
         evaluator,
-        gpu_options: GpuOptions {
-            horizon_band: args.lookup.horizon_band(),
-        },
         reference: args.reference,
         reference_samples: args.reference_samples,
         linear: args.linear,

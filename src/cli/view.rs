@@ -1,7 +1,7 @@
 //! `clothbake view`: the interactive window.
 
 use super::CommandResult;
-use super::options::{LookupArgs, SceneArgs, ShaderArg, UsageError};
+use super::options::{SceneArgs, ShaderArg, UsageError};
 use clothbake::gpu::direct::DEFAULT_SAMPLES;
 use clothbake::viewer::{self, Shading, ViewOptions};
 
@@ -23,8 +23,6 @@ pub struct Args {
     /// toggles), or the resonant quadrature in the shader (key G toggles); constant is render's only.
     #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
     shader: ShaderArg,
-    #[command(flatten)]
-    lookup: LookupArgs,
 }
 
 pub fn run(args: Args) -> CommandResult {
@@ -47,7 +45,6 @@ pub fn run(args: Args) -> CommandResult {
         frames: args.frames,
         samples: args.samples,
         shading,
-        horizon_band: args.lookup.horizon_band(),
     })?;
     let ms = |v: Option<f64>| v.map_or_else(|| "n/a".to_string(), |v| format!("{v:.2} ms"));
     println!(

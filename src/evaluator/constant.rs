@@ -79,7 +79,6 @@ impl FabricEvaluator for ConstantEvaluation {
     fn gpu(
         &self,
         context: &crate::gpu::GpuContext,
-        _options: super::GpuOptions,
     ) -> Result<Box<dyn crate::gpu::GpuBrdf>, EvaluatorError> {
         Ok(Box::new(crate::gpu::GpuConstant::new(context)))
     }

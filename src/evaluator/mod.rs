@@ -83,17 +83,9 @@ pub trait Evaluator: Send + Sync + fmt::Debug {
     ) -> Result<Box<dyn FabricEvaluator>, EvaluatorError>;
 }
 
-/// Options of a GPU form that depend on the adapter rather than on the evaluator.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct GpuOptions {
-    /// split_frame's horizon band in a table's lookup (`None`: on, except on a software
-    /// rasteriser; [`crate::gpu::GpuTable::with_horizon_band`]).
-    pub horizon_band: Option<bool>,
-}
-
 /// One fabric's evaluation of F, on the CPU and (with the runtime) on the GPU.
 pub trait FabricEvaluator: Send + Sync {
-    /// A short description for logs (`table thread_frame R=48`, `paper N=32`).
+    /// A short description for logs (`table split_frame R=31`, `paper N=32`).
     fn label(&self) -> String;
     /// F(wi, wo), cosines included, for unit directions in the patch frame.
     fn eval(&self, wi: DVec3, wo: DVec3) -> DVec3;
@@ -109,11 +101,7 @@ pub trait FabricEvaluator: Send + Sync {
     fn sampler(&self) -> Sampler;
     /// The GPU form of this evaluation, or [`EvaluatorError::NoGpuForm`].
     #[cfg(feature = "runtime")]
-    fn gpu(
-        &self,
-        context: &GpuContext,
-        options: GpuOptions,
-    ) -> Result<Box<dyn GpuBrdf>, EvaluatorError>;
+    fn gpu(&self, context: &GpuContext) -> Result<Box<dyn GpuBrdf>, EvaluatorError>;
 }
 
 /// Why an evaluator could not be parsed, prepared or put on the GPU.
@@ -234,11 +222,7 @@ impl FabricEvaluator for ModelEvaluation {
     }
 
     #[cfg(feature = "runtime")]
-    fn gpu(
-        &self,
-        context: &GpuContext,
-        _options: GpuOptions,
-    ) -> Result<Box<dyn GpuBrdf>, EvaluatorError> {
+    fn gpu(&self, context: &GpuContext) -> Result<Box<dyn GpuBrdf>, EvaluatorError> {
         match &self.gpu {
             Ok(build) => build(context, &self.fabric),
             Err(instead) => Err(EvaluatorError::NoGpuForm {

@@ -155,12 +155,7 @@ impl FabricEvaluator for TableEvaluation {
     fn gpu(
         &self,
         context: &crate::gpu::GpuContext,
-        options: super::GpuOptions,
     ) -> Result<Box<dyn crate::gpu::GpuBrdf>, EvaluatorError> {
-        Ok(Box::new(crate::gpu::GpuTable::with_horizon_band(
-            context,
-            &self.table,
-            options.horizon_band,
-        )?))
+        Ok(Box::new(crate::gpu::GpuTable::new(context, &self.table)?))
     }
 }

@@ -101,13 +101,6 @@ impl AdapterDescription {
                 .join(" "),
         }
     }
-
-    /// Whether the adapter is a software rasteriser (device type `Cpu`: lavapipe, WARP),
-    /// which may run a branch's code in every pixel whether or not any pixel takes it
-    /// (lavapipe does: docs/performance.md#split_frames-horizon-band-on-lavapipe).
-    pub fn is_software(&self) -> bool {
-        self.device_type == format!("{:?}", wgpu::DeviceType::Cpu)
-    }
 }
 
 impl fmt::Display for AdapterDescription {
@@ -238,7 +231,7 @@ pub trait GpuBrdf {
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout;
     /// The group 0 resources.
     fn bind_group(&self) -> &wgpu::BindGroup;
-    /// Short description for logs, e.g. "lookup thread_frame R=48" or "paper N=32".
+    /// Short description for logs, e.g. "lookup split_frame R=31" or "paper N=32".
     fn label(&self) -> String;
 }
 

@@ -6,14 +6,14 @@
 //! literals, so that the shader reads no uniforms and branches on no table parameter
 //! (measured on lavapipe, 1024² render of the default scene: about 445 → 165 CPU-ms per
 //! frame, of which ~50 are the render pass without any BRDF). To use a table in another
-//! engine, take [`GpuBrdf::wgsl`] of its `GpuTable`, or [`lookup_wgsl_with`] of the [`Table`]
+//! engine, take [`GpuBrdf::wgsl`] of its `GpuTable`, or [`lookup_wgsl`] of the [`Table`]
 //! (no device needed), and bind the textures of its layout
 //! ([`crate::table::TableLookup::textures`]). Two tables share a shader only when their
 //! geometry and albedos agree, so a renderer switching between fabrics compiles one
 //! pipeline per fabric.
 
 use super::{GpuBrdf, GpuContext, GpuError, brdf_entry};
-use crate::table::wgsl::{LookupShaderOptions, lookup_wgsl, lookup_wgsl_with};
+use crate::table::wgsl::lookup_wgsl;
 use crate::table::{Table, TextureData};
 
 /// A table on the GPU: its textures, bound in one bind group, and its specialised lookup.
@@ -23,7 +23,7 @@ use crate::table::{Table, TextureData};
 /// thread textures (3D), 6 the masking array texture; grid4d: 7 the grid array texture).
 pub struct GpuTable {
     label: String,
-    /// [`lookup_wgsl_with`] of the table.
+    /// [`lookup_wgsl`] of the table.
     wgsl: String,
     bind_group_layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
@@ -31,28 +31,12 @@ pub struct GpuTable {
 
 impl GpuTable {
     /// Uploads `table` (its layout's `TableLookup::textures`) and builds its bind group; the
-    /// lookup is the one for the context's adapter ([`LookupShaderOptions::for_adapter`]:
-    /// without split_frame's horizon band on a software rasteriser).
+    /// lookup is the same on every adapter.
     pub fn new(context: &GpuContext, table: &Table) -> Result<Self, GpuError> {
-        Self::with_horizon_band(context, table, None)
+        context.checked(|| Self::create(context, table))?
     }
 
-    /// [`GpuTable::new`], with split_frame's horizon band as `horizon_band` decides (`None`:
-    /// for the context's adapter; `Some(true)`: the lookup that follows `Table::lookup`).
-    pub fn with_horizon_band(
-        context: &GpuContext,
-        table: &Table,
-        horizon_band: Option<bool>,
-    ) -> Result<Self, GpuError> {
-        let options = LookupShaderOptions::for_adapter(context.adapter.is_software(), horizon_band);
-        context.checked(|| Self::create(context, table, &options))?
-    }
-
-    fn create(
-        context: &GpuContext,
-        table: &Table,
-        options: &LookupShaderOptions,
-    ) -> Result<Self, GpuError> {
+    fn create(context: &GpuContext, table: &Table) -> Result<Self, GpuError> {
         let device = &context.device;
         let limits = device.limits();
         let mut views = Vec::new();
@@ -107,21 +91,9 @@ impl GpuTable {
             layout: &bind_group_layout,
             entries: &entries,
         });
-        let wgsl = lookup_wgsl_with(table, options);
-        // Named only where leaving the band out changed the shader (a layout that has one).
-        let without_band = !options.horizon_band && wgsl != lookup_wgsl(table);
         Ok(Self {
-            label: format!(
-                "lookup {} R={}{}",
-                table.layout,
-                table.resolution,
-                if without_band {
-                    ", no horizon band"
-                } else {
-                    ""
-                }
-            ),
-            wgsl,
+            label: format!("lookup {} R={}", table.layout, table.resolution),
+            wgsl: lookup_wgsl(table),
             bind_group_layout,
             bind_group,
         })

@@ -9,7 +9,7 @@ use super::image::{
 };
 use super::reference::ReferenceEnvironment;
 use super::{FrameSettings, GpuEnvironment, Headless, RenderOutput, reference};
-use crate::evaluator::{EvaluationContext, Evaluator, FabricEvaluator, GpuOptions};
+use crate::evaluator::{EvaluationContext, Evaluator, FabricEvaluator};
 use crate::formats::fabric_toml::FabricSet;
 use crate::gpu::{GpuBrdf, GpuContext, GpuSampler};
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
@@ -35,8 +35,6 @@ pub struct RenderJob {
     pub frames: u32,
     /// How the shader evaluates F: an evaluator with a GPU form.
     pub evaluator: Arc<dyn Evaluator>,
-    /// Adapter-dependent options of the GPU form (split_frame's horizon band).
-    pub gpu_options: GpuOptions,
     /// Also render the CPU reference and compare.
     pub reference: bool,
     /// Monte Carlo samples per pixel of the reference's environment term.
@@ -180,7 +178,7 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
     let mut headless: Option<Headless> = None;
     let mut results = Vec::new();
     for (fabric, evaluation) in fabrics.iter().zip(&evaluations) {
-        let brdf: Box<dyn GpuBrdf> = evaluation.gpu(&context, job.gpu_options)?;
+        let brdf: Box<dyn GpuBrdf> = evaluation.gpu(&context)?;
         let renderer = match &mut headless {
             Some(h) => {
                 h.renderer.set_brdf(&context, brdf.as_ref())?;

@@ -9,7 +9,7 @@
 
 use super::{Evaluation, ReportConfig};
 use crate::evaluator::table::TableEvaluation;
-use crate::evaluator::{EvaluationContext, FabricEvaluator, GpuOptions};
+use crate::evaluator::{EvaluationContext, FabricEvaluator};
 use crate::gpu::{GpuContext, GpuError};
 use crate::model::{Integration, Patch};
 use crate::render::image::{LinearImage, image_error};
@@ -119,7 +119,7 @@ pub fn measure(
         return GpuSection::empty(
             Some(adapter),
             Some(device_type),
-            "Nothing to render: no thread_frame table was measured".into(),
+            "Nothing to render: no table of the default layout was measured".into(),
         );
     }
     match measure_on(config, tables, &context, progress) {
@@ -203,9 +203,7 @@ fn measure_on(
                     .and_then(|e| e.prepare(fabric, &context_files))
                     .map_err(|e| e.to_string())?,
             };
-            let brdf = prepared
-                .gpu(context, GpuOptions::default())
-                .map_err(|e| e.to_string())?;
+            let brdf = prepared.gpu(context).map_err(|e| e.to_string())?;
             brdfs.push((evaluation, brdf));
         }
         let mut reference: Option<(LinearImage, f64)> = None;

@@ -346,19 +346,24 @@ pub fn run(
     let date_utc = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
     let bake_pool = pool(0)?;
     let mut fabrics = Vec::new();
-    // The largest thread_frame table of each fabric, for the GPU section.
+    // Each fabric's table of the default layout for the GPU section: the one at the
+    // default resolution, as `bake` makes it, else the largest measured.
     let mut gpu_tables: Vec<Table> = Vec::new();
+    let rank = |t: &Table| {
+        (
+            t.resolution == Layout::DEFAULT.default_resolution(),
+            t.resolution,
+        )
+    };
     for fabric in &config.fabrics {
-        let mut largest: Option<Table> = None;
+        let mut chosen: Option<Table> = None;
         let report = measure_fabric(config, fabric, &bake_pool, progress, &mut |t| {
-            if t.layout == Layout::DEFAULT
-                && largest.as_ref().is_none_or(|l| l.resolution < t.resolution)
-            {
-                largest = Some(t.clone());
+            if t.layout == Layout::DEFAULT && chosen.as_ref().is_none_or(|c| rank(c) < rank(t)) {
+                chosen = Some(t.clone());
             }
         })?;
         fabrics.push(report);
-        gpu_tables.extend(largest);
+        gpu_tables.extend(chosen);
     }
     let gpu_started = Instant::now();
     let mut gpu = if config.gpu {

@@ -159,8 +159,7 @@ impl ReportConfig {
         }
     }
 
-    /// The full preset: every resolution of the thread_frame ladder, grid4d up to the size
-    /// of the smaller thread_frame tables, 20,000 pairs per set (as `clothbake check`), more
+    /// The full preset: every layout's report resolutions, 20,000 pairs per set (as `clothbake check`), more
     /// repetitions (under thirty minutes on the 2-core development machine).
     pub fn full(fabrics: Vec<Fabric>) -> Self {
         Self {

@@ -1,8 +1,6 @@
 use super::*;
 use crate::table::Layout;
-use crate::table::wgsl::{
-    LookupShaderOptions, layout_module, lookup_composer, lookup_wgsl_in_group,
-};
+use crate::table::wgsl::{layout_module, lookup_composer, lookup_wgsl_in_group};
 
 /// The generated modules that registered files may require.
 const GENERATED: [&str; 5] = [
@@ -222,7 +220,7 @@ fn defines(module: &naga::Module, function: &str) -> bool {
 }
 
 /// Every composition the crate makes, validated by naga: each layout's lookup for every
-/// built-in fabric with and without the horizon band (alone, in another group, with the pair
+/// built-in fabric (alone, in another group, with the pair
 /// kernel of `wgsl --lang`), and with the runtime each GPU evaluator's shader, the pair
 /// kernel over each, the renderer over each (and over its G-buffer stub) and the sampler's
 /// kernels.
@@ -234,23 +232,18 @@ fn every_composition_validates() {
         for &layout in Layout::ALL {
             // The generated WGSL depends on the geometry only: zero texels at the smallest resolution.
             let table = crate::table::zero_table(fabric, layout, layout.resolution_ladder()[0]);
-            for horizon_band in [true, false] {
-                let what = format!("{} {layout} band {horizon_band}", fabric.name);
-                let options = LookupShaderOptions { horizon_band };
-                let composer = lookup_composer(&table, &options);
-                let lookup = composer.compose(&[BRDF]).expect("lookup");
-                let module = validate(&what, &lookup);
-                assert!(defines(&module, "cloth_brdf"), "{what}");
-                assert!(defines(&module, &format!("cloth_{layout}_brdf")), "{what}");
-                let kernel = composer
-                    .compose(&[crate::table::shader_language::KERNEL_MODULE])
-                    .expect("kernel");
-                assert!(defines(&validate(&what, &kernel), "eval_pairs_main"));
-                validate(&what, &lookup_wgsl_in_group(&table, "2", &options));
-                if horizon_band {
-                    brdfs.push((what, lookup));
-                }
-            }
+            let what = format!("{} {layout}", fabric.name);
+            let composer = lookup_composer(&table);
+            let lookup = composer.compose(&[BRDF]).expect("lookup");
+            let module = validate(&what, &lookup);
+            assert!(defines(&module, "cloth_brdf"), "{what}");
+            assert!(defines(&module, &format!("cloth_{layout}_brdf")), "{what}");
+            let kernel = composer
+                .compose(&[crate::table::shader_language::KERNEL_MODULE])
+                .expect("kernel");
+            assert!(defines(&validate(&what, &kernel), "eval_pairs_main"));
+            validate(&what, &lookup_wgsl_in_group(&table, "2"));
+            brdfs.push((what, lookup));
         }
         #[cfg(feature = "runtime")]
         brdfs.push((

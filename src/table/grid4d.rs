@@ -18,7 +18,6 @@
 //! multiple of 6: wgpu's GL backend would otherwise make the texture a cube map array.)
 
 use super::gpu_bound::{COORDINATE_ERROR, FILTER_WEIGHT_STEP, GpuErrorBound, floor, range};
-use super::wgsl::LookupShaderOptions;
 use super::{
     LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, octahedral, quadrilinear_corners,
 };
@@ -120,7 +119,7 @@ impl TableLookup for Grid4dLookup {
         sum
     }
 
-    fn wgsl_constants(&self, _: &LookupShaderOptions) -> String {
+    fn wgsl_constants(&self) -> String {
         format!(
             "// Octahedral texels per axis of the grid.\nconst CLOTH_GRID_N: u32 = {}u;\n",
             self.n

@@ -37,7 +37,6 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::any::Any;
 use std::fmt;
 use std::sync::Arc;
-use wgsl::LookupShaderOptions;
 
 /// One table layout: everything that depends on how texels are arranged.
 pub trait LayoutUnit: Sync {
@@ -97,11 +96,11 @@ pub trait TableLookup: Send + Sync + fmt::Debug + Any {
         std::array::from_fn(|k| self.terms_f32(planes, wi[k], wo[k]))
     }
     /// The layout's part of the generated module `table_constants`: the constants and
-    /// functions its WGSL file expects, as literals, with the choices of `options`.
-    fn wgsl_constants(&self, options: &LookupShaderOptions) -> String;
+    /// functions its WGSL file expects, as literals.
+    fn wgsl_constants(&self) -> String;
     /// Further generated modules that the layout's WGSL file requires by name (see
     /// `crate::shader`), as (name, source); none by default.
-    fn wgsl_modules(&self, _options: &LookupShaderOptions) -> Vec<(&'static str, String)> {
+    fn wgsl_modules(&self) -> Vec<(&'static str, String)> {
         Vec::new()
     }
     /// The textures the WGSL file binds, built from the planes.
@@ -145,9 +144,9 @@ impl Layout {
     pub const GRID4D: Layout = Layout(&grid4d::Grid4d);
     pub const SPLIT_FRAME: Layout = Layout(&split_frame::SplitFrame);
     /// The registry: every layout, the default first.
-    pub const ALL: &'static [Layout] = &[Layout::THREAD_FRAME, Layout::SPLIT_FRAME, Layout::GRID4D];
+    pub const ALL: &'static [Layout] = &[Layout::SPLIT_FRAME, Layout::THREAD_FRAME, Layout::GRID4D];
     /// The layout `bake` uses when none is given.
-    pub const DEFAULT: Layout = Layout::THREAD_FRAME;
+    pub const DEFAULT: Layout = Layout::SPLIT_FRAME;
 
     pub fn unit(self) -> &'static dyn LayoutUnit {
         self.0

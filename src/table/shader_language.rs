@@ -17,7 +17,7 @@
 //! (buffer, texture and sampler indices in declaration order).
 
 use super::Table;
-use super::wgsl::{LookupShaderOptions, lookup_composer, lookup_wgsl_with};
+use super::wgsl::{lookup_composer, lookup_wgsl};
 use std::fmt;
 
 /// The registered module of the compute kernel translated with the lookup.
@@ -88,12 +88,11 @@ pub enum ShaderLanguageError {
 pub fn lookup_shader(
     table: &Table,
     language: ShaderLanguage,
-    options: &LookupShaderOptions,
 ) -> Result<String, ShaderLanguageError> {
     if language == ShaderLanguage::Wgsl {
-        return Ok(lookup_wgsl_with(table, options));
+        return Ok(lookup_wgsl(table));
     }
-    let source = lookup_composer(table, options).compose(&[KERNEL_MODULE])?;
+    let source = lookup_composer(table).compose(&[KERNEL_MODULE])?;
     let module = naga::front::wgsl::parse_str(&source)
         .map_err(|e| ShaderLanguageError::Parse(e.emit_to_string(&source)))?;
     let info = naga::valid::Validator::new(

@@ -41,16 +41,15 @@
 //! in thread_frame); then
 //! `Q = Σ_j a_j (Σ_k w_k P_k + w_c⟨P⟩_c) + (1 − a1 − a2)·wo.z` and `F = Σ_j a_j ⟨s⟩_j / Q`.
 //!
-//! # The horizon band
-//! Where a direction is less than [`HORIZON_BAND_DEG`] (1°) above the horizon, the sloped
-//! part comes from the resonant quadrature of the sloped segments
-//! ([`HORIZON_BAND_NODES`], `Integration::Resonant`) instead of the table: `w_c⟨R⟩_c`,
-//! `w_c⟨T⟩_c`, `w_c⟨P⟩_c`. Why: there the facing window's edge w·n(α) = 0 sweeps across
-//! the narrow lobe at α ≈ 0 as the elevation changes by a fraction of a degree, across all
-//! four table axes at once; pairs below 1° (about 3.5% of uniform pairs) carried 82–94% of
-//! the highlight squared error of crepe, both satins and shot silk. The CPU's f32 lookup
-//! evaluates the band in f64 (`ThreadModel::means`), the WGSL by the shared kernel
-//! (`shaders/model/resonant_quadrature.wgsl`, specialised by [`super::resonant_kernel`]) in f32.
+//! # The horizon
+//! Nothing in a lookup integrates the curve: the horizon is the table's own. The texels
+//! below the horizon hold the continuation above, so a pair a fraction of a degree above the
+//! horizon interpolates between a texel inside and one continued outside, as any other pair
+//! interpolates; and v = 0, where min(M(wi), M(wo)) kinks, is a texel line. Measured on
+//! 20,000 uniform and 20,000 highlight pairs per fabric at 31 (docs/tables.md#what-was-tried):
+//! the pairs within 1° of the horizon raise the worse of the two sets by at most 0.16
+//! points over what the resonant quadrature there gave (satin back 0.24 → 0.40%), and every
+//! fabric stays within 1%.
 //!
 //! # GPU textures
 //! The sloped tables as thread_frame arranges them (bindings 4 and 5, 3D, only for threads
@@ -58,28 +57,19 @@
 //! thread's position among those with a table). Per light: two filtered fetches per sloped
 //! table and one per masking plane (0–6 in all: linen and velvet 6, crepe, satin and shot
 //! silk 3), plus one evaluation of the shared sample kernel (`shaders/model/tangent_sample.wgsl`) per
-//! point mass (linen and velvet 0, crepe 3, satin 4, satin back 5, shot silk 3);
-//! in the horizon band, the resonant kernel instead of the sloped tables' fetches. A GPU
-//! skips that branch where no lane of a warp takes it; a software rasteriser (lavapipe)
-//! runs the kernel, masked, in every pixel, which made split_frame's frame 3–8× thread_frame's
-//! there (measured in docs/performance.md#split_frames-horizon-band-on-lavapipe). So the
-//! band can be left out of the shader (`LookupShaderOptions::horizon_band`, which
-//! `GpuTable::new` does on a software adapter): the band's pairs then read the sloped tables
-//! like the others (the tables hold the function continued past the horizon), the shader
-//! has no call to the kernel, and every other pair's F is unchanged.
+//! point mass (linen and velvet 0, crepe 3, satin 4, satin back 5, shot silk 3). The same
+//! shader on every adapter.
 
 use super::axis::AxisF32;
 use super::fast_math::Lanes;
 use super::gpu_bound::{self, GpuErrorBound};
 use super::point_samples::{PointSamples, PointSums};
-use super::resonant_kernel::{resonant_rules_wgsl, resonant_thread_wgsl};
 use super::thread_frame::{self, AxisPlan, LocatedPairs, ThreadGeometry};
-use super::wgsl::{LookupShaderOptions, coverage_wgsl, wgsl_f32, wgsl_vec};
+use super::wgsl::{coverage_wgsl, wgsl_f32, wgsl_vec};
 use super::{BATCH_LANES, BatchLanes, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
 use crate::model::curve::{Integration, curve_pieces};
-use crate::model::fabric::{ModelOptions, TangentSampling};
-use crate::model::patch::{ThreadMeans, ThreadModel};
-use crate::model::resonant::ResonantNodes;
+use crate::model::fabric::TangentSampling;
+use crate::model::patch::ThreadModel;
 use crate::model::{Fabric, Thread};
 use glam::{DVec3, Vec3};
 use std::any::Any;
@@ -96,19 +86,6 @@ pub const PLAN: AxisPlan = AxisPlan {
     inner_per_resolution: [1.0, 0.56, 0.84],
     theta_warp_k: 1.2,
 };
-
-/// Pairs with a direction less than this far above the horizon (degrees) take their sloped
-/// segments' sums from the resonant quadrature instead of the table (see the module doc).
-/// Measured (20,000 uniform and 20,000 highlight pairs per fabric, split_frame 32, the
-/// sloped part exact inside the band): 1° takes the worse of the two sets from 1.06 / 0.42 /
-/// 1.20 / 2.19 / 1.35 / 1.96% to 0.88 / 0.37 / 0.77 / 0.44 / 0.59 / 1.81% (linen, crepe,
-/// satin, satin back, shot silk, velvet), where 3° adds only velvet's 1.81 → 1.63% for
-/// three times as many pairs off the table (~10% of uniform pairs instead of ~3.5%).
-pub const HORIZON_BAND_DEG: f64 = 1.0;
-
-/// The node counts of the resonant quadrature in the horizon band: the default, within
-/// 0.25% of the direct rule on every fabric (`ResonantNodes::DEFAULT`).
-pub const HORIZON_BAND_NODES: ResonantNodes = ResonantNodes::DEFAULT;
 
 /// The layout unit `split_frame`.
 pub struct SplitFrame;
@@ -141,7 +118,7 @@ impl LayoutUnit for SplitFrame {
     }
 
     fn integration(&self) -> &'static str {
-        "baking: per-segment midpoint rule over the sloped segments, alpha spacing <= min(2 deg, sigma/6); point masses evaluated at lookup; sloped segments by the resonant quadrature (6/5/2) for pairs within 1 deg of the horizon"
+        "baking: per-segment midpoint rule over the sloped segments, alpha spacing <= min(2 deg, sigma/6); point masses evaluated at lookup"
     }
 
     fn plane_specs(&self, fabric: &Fabric, resolution: u32) -> Vec<PlaneSpec> {
@@ -199,21 +176,6 @@ pub struct Slopes {
     fast_axes: [AxisF32; 5],
     /// w_c, their share of the curve's arc length.
     pub weight: f64,
-    /// The resonant quadrature of `fabric`'s thread, for pairs in the horizon band.
-    near_horizon: ThreadModel,
-}
-
-impl Slopes {
-    /// The sums (reflection, transmission, ⟨P⟩) of the sloped segments, weighted by w_c, from
-    /// the resonant quadrature: what the table stands for, for a pair in the horizon band.
-    fn band_sums(&self, wi: DVec3, wo: DVec3) -> [f64; 3] {
-        let ThreadMeans {
-            reflection,
-            transmission,
-            masking,
-        } = self.near_horizon.means(wi, wo);
-        [reflection, transmission, masking].map(|m| self.weight * m)
-    }
 }
 
 /// One thread of a split_frame table.
@@ -236,11 +198,6 @@ pub struct Geometry {
     pub gap: f64,
     /// Per thread, the indices of its 4D and masking planes, if it has sloped segments.
     planes: [Option<(usize, usize)>; 2],
-    /// sin of [`HORIZON_BAND_DEG`]: a pair whose lower direction has w.z below it is in the
-    /// horizon band.
-    horizon_band: f64,
-    /// The fabric's model options (the resonant kernel's σu, for the WGSL).
-    options: ModelOptions,
 }
 
 /// A thread's sloped segments as a thread of their own (zero-length jumps between them),
@@ -295,11 +252,6 @@ impl Geometry {
                     let geometry = ThreadGeometry::planned(&sub, j, resolution, n_beta, &PLAN);
                     Slopes {
                         fast_axes: geometry.fast_axes(),
-                        near_horizon: ThreadModel::new(
-                            &sub,
-                            j,
-                            Integration::Resonant(HORIZON_BAND_NODES),
-                        ),
                         geometry,
                         fabric: sub,
                         weight,
@@ -328,8 +280,6 @@ impl Geometry {
             coverage: [fabric.thread1.coverage, fabric.thread2.coverage],
             gap: (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0),
             planes,
-            horizon_band: HORIZON_BAND_DEG.to_radians().sin(),
-            options: fabric.options,
         }
     }
 
@@ -352,14 +302,6 @@ impl Geometry {
             let points = thread.model.point_sums(wi, wo, &thread.points);
             sums = [points.reflection, points.transmission, points.masking];
         }
-        if let Some(slopes) = thread
-            .slopes
-            .as_ref()
-            .filter(|_| self.in_horizon_band(wi, wo))
-        {
-            let band = slopes.band_sums(wi, wo);
-            return [0, 1, 2].map(|c| sums[c] + band[c]);
-        }
         if let (Some(slopes), Some((table, masking))) = (&thread.slopes, self.planes[j]) {
             let [r, t, p, cos2_d] =
                 slopes
@@ -373,17 +315,9 @@ impl Geometry {
         sums
     }
 
-    /// Whether the pair is in the horizon band ([`HORIZON_BAND_DEG`]): its sloped segments
-    /// come from the resonant quadrature, not the table.
-    pub fn in_horizon_band(&self, wi: DVec3, wo: DVec3) -> bool {
-        wi.z.min(wo.z) < self.horizon_band
-    }
-
     /// [`Self::thread_sums`] in f32 for pair `k`, `wi`, `wo`, of the `L::WIDTH` pairs whose
     /// point masses sum to `points` and which fall at `located` in this thread's sloped
-    /// table, if it has one. A pair in the horizon band takes the sloped segments from the
-    /// f64 resonant quadrature: a few pairs in a hundred, where the f64 rule costs little
-    /// more than an f32 one would.
+    /// table, if it has one.
     #[inline(always)]
     fn thread_sums_f32<L: Lanes>(
         &self,
@@ -391,18 +325,10 @@ impl Geometry {
         j: usize,
         points: &PointSums<L>,
         located: Option<&LocatedPairs<L>>,
-        (k, wi, wo): (usize, Vec3, Vec3),
+        k: usize,
     ) -> [f32; 3] {
         let thread = &self.threads[j];
         let mut sums = points.map(|p| p.values()[k]);
-        if let Some(slopes) = thread
-            .slopes
-            .as_ref()
-            .filter(|_| wi.z.min(wo.z) < self.horizon_band as f32)
-        {
-            let band = slopes.band_sums(wi.as_dvec3(), wo.as_dvec3());
-            return [0, 1, 2].map(|c| sums[c] + band[c] as f32);
-        }
         if let (Some(slopes), Some((table, masking)), Some(located)) =
             (&thread.slopes, self.planes[j], located)
         {
@@ -450,9 +376,8 @@ impl Geometry {
         let points = [points(0), points(1)];
         let a = self.coverage.map(|a| a as f32);
         for (k, terms) in terms.iter_mut().enumerate() {
-            let pair = (k, wi[k], wo[k]);
             let sums =
-                |j: usize| self.thread_sums_f32(planes, j, &points[j], located[j].as_ref(), pair);
+                |j: usize| self.thread_sums_f32(planes, j, &points[j], located[j].as_ref(), k);
             let sums = [sums(0), sums(1)];
             let q = self.gap as f32 * wo[k].z + a[0] * sums[0][2] + a[1] * sums[1][2];
             if q > 0.0 {
@@ -465,9 +390,8 @@ impl Geometry {
         }
     }
 
-    /// `cloth_split_threadJ(wi, wo)`: thread j's sums as [`Self::thread_sums`], in WGSL;
-    /// without `horizon_band`, the sloped table for every pair.
-    fn thread_wgsl(&self, j: usize, horizon_band: bool) -> String {
+    /// `cloth_split_threadJ(wi, wo)`: thread j's sums as [`Self::thread_sums`], in WGSL.
+    fn thread_wgsl(&self, j: usize) -> String {
         let k = j + 1;
         let thread = &self.threads[j];
         let mut f = String::new();
@@ -478,9 +402,6 @@ impl Geometry {
                 "cloth_split_masking",
                 table,
             );
-            if horizon_band {
-                f += &resonant_thread_wgsl(&slopes.fabric, j, HORIZON_BAND_NODES);
-            }
         }
         let _ = write!(
             f,
@@ -515,27 +436,13 @@ impl Geometry {
             f += "    }\n";
         }
         if let Some(slopes) = &thread.slopes {
-            let weight = wgsl_f32(slopes.weight);
-            let table = format!(
-                "let c = cloth_split_slopes{k}(wi, wo);\n        \
-                 let p = {weight} * c.z;\n        \
-                 sums += vec3<f32>(c.x * p / max(c.w, 1e-8), c.y * p, p);"
+            let _ = writeln!(
+                f,
+                "    let c = cloth_split_slopes{k}(wi, wo);\n    \
+                 let p = {} * c.z;\n    \
+                 sums += vec3<f32>(c.x * p / max(c.w, 1e-8), c.y * p, p);",
+                wgsl_f32(slopes.weight)
             );
-            if horizon_band {
-                let _ = write!(
-                    f,
-                    "    if min(wi.z, wo.z) < {band} {{\n        \
-                     sums += {weight} * cloth_resonant_means_{j}(wi, wo);\n    \
-                     }} else {{\n        {table}\n    }}\n",
-                    band = wgsl_f32(self.horizon_band),
-                );
-            } else {
-                let _ = writeln!(
-                    f,
-                    "    // The horizon band left out: the table for every pair.\n    \
-                     {{\n        {table}\n    }}"
-                );
-            }
         }
         f += "    return sums;\n}\n";
         f
@@ -587,7 +494,7 @@ impl TableLookup for Geometry {
         terms
     }
 
-    fn wgsl_constants(&self, options: &LookupShaderOptions) -> String {
+    fn wgsl_constants(&self) -> String {
         let mut out = coverage_wgsl(self.coverage, self.gap);
         let mut any = false;
         for (j, _) in self.tabulated() {
@@ -605,19 +512,9 @@ impl TableLookup for Geometry {
                     texture_2d_array<f32>;\n";
         }
         for j in 0..2 {
-            out += &self.thread_wgsl(j, options.horizon_band);
+            out += &self.thread_wgsl(j);
         }
         out
-    }
-
-    /// shaders/model/resonant_quadrature.wgsl, which the layout's file requires, needs the
-    /// rules' constants even where no pair calls it (no horizon band).
-    fn wgsl_modules(&self, _options: &LookupShaderOptions) -> Vec<(&'static str, String)> {
-        let rules = format!(
-            "// The resonant quadrature of the sloped segments in the horizon band.\n{}",
-            resonant_rules_wgsl(&self.options, HORIZON_BAND_NODES)
-        );
-        vec![(crate::shader::RESONANT_RULES, rules)]
     }
 
     fn textures(&self, planes: &[Plane]) -> Vec<TextureData> {
@@ -639,9 +536,8 @@ impl TableLookup for Geometry {
     }
 
     /// The sloped tables' interpolation errors propagated to F as for thread_frame (their
-    /// ⟨P⟩ weighted by the sloped share; none in the horizon band), plus the f32 sample
-    /// kernel's relative error for the point masses and the band's resonant quadrature
-    /// ([`gpu_bound`] point 4).
+    /// ⟨P⟩ weighted by the sloped share), plus the f32 sample kernel's relative error for
+    /// the point masses ([`gpu_bound`] point 4).
     fn gpu_error_bound(
         &self,
         planes: &[Plane],
@@ -662,12 +558,6 @@ impl TableLookup for Geometry {
         }
         total += cpu.abs() * gpu_bound::KERNEL_RELATIVE;
         let mut folded = false;
-        if self.in_horizon_band(wi, wo) {
-            return GpuErrorBound {
-                per_channel: total,
-                on_fold: false,
-            };
-        }
         for (j, slopes) in self.tabulated() {
             let (t, m) = self
                 .plane_indices(j)

@@ -67,7 +67,7 @@ use super::BatchLanes;
 use super::axis::{Axis, AxisF32, Warp};
 use super::fast_math::{self, Lanes};
 use super::gpu_bound::{self, GpuErrorBound};
-use super::wgsl::{LookupShaderOptions, coverage_wgsl, wgsl_f32};
+use super::wgsl::{coverage_wgsl, wgsl_f32};
 use super::{
     BATCH_LANES, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, quadrilinear_corners,
 };
@@ -705,7 +705,7 @@ impl TableLookup for Geometry {
         terms
     }
 
-    fn wgsl_constants(&self, _: &LookupShaderOptions) -> String {
+    fn wgsl_constants(&self) -> String {
         // The u blend reads blocks i0 and i0 + 1 (i0 ≤ N2 − 2).
         assert!(
             self.threads.iter().all(|t| t.axes[2].texels >= 2),

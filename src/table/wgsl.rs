@@ -7,37 +7,6 @@ use crate::model::patch::DEGENERATE_PROJECTION;
 use crate::shader::{self, Composer};
 use std::fmt::Write;
 
-/// Choices a renderer makes in a table's generated lookup. The default is the lookup that
-/// follows [`Table::lookup`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LookupShaderOptions {
-    /// Whether a layout that evaluates the model where its table is weakest keeps that
-    /// evaluation in the shader (split_frame's horizon band: the resonant quadrature for
-    /// pairs within 1° of the horizon). Without it such pairs read the table like every
-    /// other pair; layouts without such a region ignore the option. Worth leaving out on a
-    /// software rasteriser, which runs a branch's code in every pixel whether or not any
-    /// pixel takes it (measured in docs/performance.md).
-    pub horizon_band: bool,
-}
-
-impl Default for LookupShaderOptions {
-    fn default() -> Self {
-        Self { horizon_band: true }
-    }
-}
-
-impl LookupShaderOptions {
-    /// The lookup for an adapter: the default, without the horizon band on a software
-    /// rasteriser (`software`), where it made split_frame's frame 3–8× thread_frame's
-    /// and changed its image error by less than 0.01 points (docs/performance.md). `horizon_band`,
-    /// when given, decides instead.
-    pub fn for_adapter(software: bool, horizon_band: Option<bool>) -> Self {
-        Self {
-            horizon_band: horizon_band.unwrap_or(!software),
-        }
-    }
-}
-
 /// The lookup of `table` as WGSL: the generated module `table_constants` (the thread albedos
 /// and the layout's [`super::TableLookup::wgsl_constants`]), `shaders/table/lookup.wgsl`, the
 /// layout's WGSL file and what it requires, and the generated module `brdf`: `fn
@@ -46,12 +15,7 @@ impl LookupShaderOptions {
 /// textures ([`super::TableLookup::textures`]) and the sampler at binding 3, in group 0; no
 /// uniform block.
 pub fn lookup_wgsl(table: &Table) -> String {
-    lookup_wgsl_with(table, &LookupShaderOptions::default())
-}
-
-/// [`lookup_wgsl`] with the choices of `options`.
-pub fn lookup_wgsl_with(table: &Table, options: &LookupShaderOptions) -> String {
-    compose_lookup(lookup_composer(table, options))
+    compose_lookup(lookup_composer(table))
 }
 
 /// The composer of `table`'s lookup: the registered files and the generated modules of the
@@ -60,7 +24,7 @@ pub fn lookup_wgsl_with(table: &Table, options: &LookupShaderOptions) -> String 
 /// layout's `cloth_<layout>_brdf` in `shaders/table/<layout>.wgsl`). Compose
 /// [`shader::BRDF`] for the lookup alone, or a module that requires it (the pair kernel of
 /// [`super::shader_language`], an engine's material).
-pub fn lookup_composer(table: &Table, options: &LookupShaderOptions) -> Composer {
+pub fn lookup_composer(table: &Table) -> Composer {
     let layout = table.layout;
     let mut constants = String::from("// Thread albedos A1, A2 (albedo scale applied).\n");
     for (j, [r, g, b]) in table
@@ -78,7 +42,7 @@ pub fn lookup_composer(table: &Table, options: &LookupShaderOptions) -> Composer
         );
     }
     let lookup = table.geometry();
-    constants += &lookup.wgsl_constants(options);
+    constants += &lookup.wgsl_constants();
     let brdf = format!(
         "// F(wi, wo) by this table.\n\
          // requires: {}\n\
@@ -93,7 +57,7 @@ pub fn lookup_composer(table: &Table, options: &LookupShaderOptions) -> Composer
             table.fabric.name, table.resolution
         ))
         .module(shader::TABLE_CONSTANTS, constants);
-    for (name, source) in lookup.wgsl_modules(options) {
+    for (name, source) in lookup.wgsl_modules() {
         composer = composer.module(name, source);
     }
     composer.module(shader::BRDF, brdf)
@@ -104,12 +68,12 @@ pub fn layout_module(layout: super::Layout) -> String {
     format!("table/{}", layout.name())
 }
 
-/// [`lookup_wgsl_with`] with the table's bindings in bind group `group` instead of 0, for an
+/// [`lookup_wgsl`] with the table's bindings in bind group `group` instead of 0, for an
 /// engine that gives materials a group of their own: Bevy's is `#{MATERIAL_BIND_GROUP}`, a
 /// value its shader preprocessor substitutes. Binding numbers stay as the layout declares them.
 /// The composer binds the group ([`Composer::brdf_group`]).
-pub fn lookup_wgsl_in_group(table: &Table, group: &str, options: &LookupShaderOptions) -> String {
-    compose_lookup(lookup_composer(table, options).brdf_group(group))
+pub fn lookup_wgsl_in_group(table: &Table, group: &str) -> String {
+    compose_lookup(lookup_composer(table).brdf_group(group))
 }
 
 fn compose_lookup(composer: Composer) -> String {
@@ -203,14 +167,12 @@ mod tests {
     #[test]
     fn generated_lookup_is_valid_wgsl_for_every_layout_and_builtin_fabric() {
         for fabric in crate::formats::fabric_toml::FabricSet::builtin().fabrics() {
-            for (&layout, horizon_band) in Layout::ALL.iter().flat_map(|l| [(l, true), (l, false)])
-            {
+            for &layout in Layout::ALL {
                 let table = crate::table::zero_table(fabric, layout, layout.default_resolution());
-                let source = lookup_wgsl_with(&table, &LookupShaderOptions { horizon_band });
-                // Without the band no pair calls the resonant quadrature.
-                assert_eq!(
-                    horizon_band && layout == Layout::SPLIT_FRAME,
-                    source.contains("fn cloth_resonant_means_"),
+                let source = lookup_wgsl(&table);
+                // No lookup evaluates the model's curve integral.
+                assert!(
+                    !source.contains("fn cloth_resonant_means_"),
                     "{} {layout}",
                     fabric.name
                 );
@@ -252,8 +214,7 @@ mod tests {
                     .collect();
                 assert_eq!(declared, provided, "{} {layout}", fabric.name);
                 // Moved to another group, no binding is left in group 0.
-                let moved =
-                    lookup_wgsl_in_group(&table, "2", &LookupShaderOptions { horizon_band });
+                let moved = lookup_wgsl_in_group(&table, "2");
                 let module = naga::front::wgsl::parse_str(&moved).expect("moved lookup parses");
                 let groups: Vec<u32> = module
                     .global_variables

@@ -10,8 +10,8 @@ use super::shading::FabricGpu;
 use super::surface::{Graphics, depth_view, os_message, surface_config};
 use super::timer::GpuTimer;
 use super::{Shading, ViewError, ViewSummary};
+use crate::evaluator::EvaluationContext;
 use crate::evaluator::table::load_fabric_table;
-use crate::evaluator::{EvaluationContext, GpuOptions};
 use crate::formats::table_exr::TableFile;
 use crate::gpu::{GpuContext, GpuSampler};
 use crate::lighting::SplitEnvironment;
@@ -48,8 +48,6 @@ pub(super) struct Setup {
     pub samples: u32,
     /// The shading at start.
     pub shading: Shading,
-    /// `ViewOptions::horizon_band`.
-    pub horizon_band: Option<bool>,
 }
 
 /// Runs the event loop until the window closes; `table` is the first fabric's.
@@ -146,12 +144,6 @@ impl App {
         self.shading.evaluator(self.samples).spelling()
     }
 
-    fn gpu_options(&self) -> GpuOptions {
-        GpuOptions {
-            horizon_band: self.setup.horizon_band,
-        }
-    }
-
     /// The window, surface, device and renderer, showing the first fabric by lookup.
     fn create_graphics(&mut self, event_loop: &ActiveEventLoop) -> Result<Graphics, ViewError> {
         let attributes = Window::default_attributes()
@@ -187,8 +179,8 @@ impl App {
             .first_table
             .take()
             .ok_or_else(|| ViewError::Render("the first table was already used".into()))?;
-        let first = FabricGpu::with_table(&gpu, table, self.gpu_options())
-            .map_err(|e| ViewError::Render(e.to_string()))?;
+        let first =
+            FabricGpu::with_table(&gpu, table).map_err(|e| ViewError::Render(e.to_string()))?;
         let environment = self
             .setup
             .environment
@@ -226,7 +218,6 @@ impl App {
     /// Shows fabric `index` with `shading` (paper mode: `samples` per thread), preparing
     /// what it needs. On error nothing changes and the message says why.
     fn show(&mut self, index: usize, shading: Shading, samples: u32) -> Result<(), String> {
-        let options = self.gpu_options();
         let context = EvaluationContext {
             tables: self.setup.tables.clone(),
         };
@@ -239,9 +230,7 @@ impl App {
             slot => {
                 let file =
                     load_fabric_table(&self.setup.tables, fabric).map_err(|e| e.to_string())?;
-                slot.insert(
-                    FabricGpu::with_table(&g.gpu, file, options).map_err(|e| e.to_string())?,
-                )
+                slot.insert(FabricGpu::with_table(&g.gpu, file).map_err(|e| e.to_string())?)
             }
         };
         if let (true, Some(map)) = (self.environment_on, &g.environment) {
@@ -253,7 +242,6 @@ impl App {
                         Shading::Lookup.evaluator(samples).as_ref(),
                         fabric,
                         &context,
-                        options,
                     )
                     .map_err(|e| e.to_string())?;
                 let sampler = f.shown[table].evaluation.sampler();
@@ -269,7 +257,7 @@ impl App {
         let unavailable =
             |e: &dyn std::fmt::Display| format!("{} unavailable: {e}", evaluator.spelling());
         let i = f
-            .entry(&g.gpu, evaluator.as_ref(), fabric, &context, options)
+            .entry(&g.gpu, evaluator.as_ref(), fabric, &context)
             .map_err(|e| unavailable(&e))?;
         g.renderer
             .set_brdf(&g.gpu, f.shown[i].brdf.as_ref())

@@ -52,9 +52,6 @@ pub struct ViewOptions {
     pub samples: u32,
     /// The shading at start (keys D and G switch it).
     pub shading: Shading,
-    /// split_frame's horizon band in the lookup (`None`: on, except on a software
-    /// rasteriser; [`crate::gpu::GpuTable::with_horizon_band`]).
-    pub horizon_band: Option<bool>,
 }
 
 /// What a viewing session measured.
@@ -197,7 +194,6 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
             frames: options.frames,
             samples: options.samples,
             shading: options.shading,
-            horizon_band: options.horizon_band,
         },
         table,
     )
@@ -259,7 +255,6 @@ mod tests {
             frames: Some(1),
             samples: DEFAULT_SAMPLES,
             shading: Shading::Lookup,
-            horizon_band: None,
         };
         let e = run(options.clone()).unwrap_err().to_string();
         assert!(

@@ -4,7 +4,7 @@
 use crate::evaluator::paper::Paper;
 use crate::evaluator::resonant::Resonant;
 use crate::evaluator::table::{TableEvaluation, TableLookup};
-use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError, FabricEvaluator, GpuOptions};
+use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError, FabricEvaluator};
 use crate::formats::table_exr::TableFile;
 use crate::gpu::{GpuBrdf, GpuContext, GpuSampler};
 use crate::model::{Fabric, ResonantNodes};
@@ -54,13 +54,9 @@ pub(super) struct Shown {
 
 impl FabricGpu {
     /// A fabric's entry holding its table's evaluation, put on the GPU.
-    pub fn with_table(
-        gpu: &GpuContext,
-        file: TableFile,
-        options: GpuOptions,
-    ) -> Result<Self, EvaluatorError> {
+    pub fn with_table(gpu: &GpuContext, file: TableFile) -> Result<Self, EvaluatorError> {
         let evaluation: Box<dyn FabricEvaluator> = Box::new(TableEvaluation { table: file.table });
-        let brdf = evaluation.gpu(gpu, options)?;
+        let brdf = evaluation.gpu(gpu)?;
         let spelling = Shading::Lookup.evaluator(0).spelling();
         Ok(Self {
             shown: vec![Shown {
@@ -79,7 +75,6 @@ impl FabricGpu {
         evaluator: &dyn Evaluator,
         fabric: &Fabric,
         context: &EvaluationContext,
-        options: GpuOptions,
     ) -> Result<usize, EvaluatorError> {
         let spelling = evaluator.spelling();
         if let Some(i) = self
@@ -90,7 +85,7 @@ impl FabricGpu {
             return Ok(i);
         }
         let evaluation = evaluator.prepare(fabric, context)?;
-        let brdf = evaluation.gpu(gpu, options)?;
+        let brdf = evaluation.gpu(gpu)?;
         self.shown.push(Shown {
             spelling,
             evaluation,

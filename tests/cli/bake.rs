@@ -4,7 +4,7 @@
 use crate::common::*;
 
 use clothbake::formats::table_exr::read_table;
-use clothbake::table::wgsl::{LookupShaderOptions, lookup_wgsl_with};
+use clothbake::table::wgsl::lookup_wgsl;
 
 use std::process::{Command, Output};
 use std::time::Duration;
@@ -288,15 +288,11 @@ fn wgsl_prints_the_specialised_lookup_of_a_table() {
     assert!(bake.status.success(), "{}", output_text(&bake));
     let table = dir.join("velvet.exr");
     let baked = read_table(&table).unwrap().table;
-    for (args, horizon_band) in [(&[][..], true), (&["--no-horizon-band"][..], false)] {
-        let printed = clothbake(&[&["wgsl", path_str(&table)][..], args].concat());
-        assert!(printed.status.success(), "{}", output_text(&printed));
-        let options = LookupShaderOptions { horizon_band };
-        let expected = lookup_wgsl_with(&baked, &options);
-        assert_eq!(String::from_utf8_lossy(&printed.stdout), expected);
-        assert!(expected.contains("fn cloth_brdf("));
-        assert_eq!(expected.contains("fn cloth_resonant_means_"), horizon_band);
-    }
+    let printed = clothbake(&["wgsl", path_str(&table)]);
+    assert!(printed.status.success(), "{}", output_text(&printed));
+    let expected = lookup_wgsl(&baked);
+    assert_eq!(String::from_utf8_lossy(&printed.stdout), expected);
+    assert!(expected.contains("fn cloth_brdf("));
 
     let not_a_table = dir.join("scene.toml");
     std::fs::write(&not_a_table, "fabrics = []\n").unwrap();

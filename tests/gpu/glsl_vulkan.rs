@@ -13,7 +13,6 @@ use clothbake::bake::bake;
 use clothbake::gpu::{GpuTable, evaluate_pairs};
 use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::table::shader_language::{ShaderLanguage, lookup_shader};
-use clothbake::table::wgsl::LookupShaderOptions;
 use clothbake::table::{Layout, Table, TextureData};
 use glam::Vec3;
 use std::process::Command;
@@ -554,16 +553,7 @@ fn glsl_translation_on_vulkan_agrees_with_wgsl_pair_by_pair() {
             let fabric = fabric(name);
             let table = bake(&fabric, layout, layout.resolution_ladder()[0], &|| {}).unwrap();
             let glsl = dir.join(format!("{}-{name}.comp", layout.name()));
-            std::fs::write(
-                &glsl,
-                lookup_shader(
-                    &table,
-                    ShaderLanguage::Glsl,
-                    &LookupShaderOptions::default(),
-                )
-                .unwrap(),
-            )
-            .unwrap();
+            std::fs::write(&glsl, lookup_shader(&table, ShaderLanguage::Glsl).unwrap()).unwrap();
             let spv = glsl.with_extension("spv");
             let output = Command::new("glslangValidator")
                 .args(["-V", path_str(&glsl), "-o", path_str(&spv)])
@@ -581,8 +571,7 @@ fn glsl_translation_on_vulkan_agrees_with_wgsl_pair_by_pair() {
                 .map(|(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
                 .collect();
             let from_glsl = evaluate_glsl(&vulkan, &table, &words, &pairs);
-            // The WGSL of `lookup_shader`, horizon band included, whatever the adapter.
-            let gpu_table = GpuTable::with_horizon_band(&context, &table, Some(true)).unwrap();
+            let gpu_table = GpuTable::new(&context, &table).unwrap();
             let from_wgsl = evaluate_pairs(&context, &gpu_table, &pairs).unwrap();
             let largest = from_wgsl.iter().flatten().fold(0.0f32, |a, &b| a.max(b));
             let (mut worst, mut identical, mut lit) = (0.0f64, 0, 0);

@@ -21,7 +21,7 @@ use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::gpu::{GpuBrdf, GpuTable, evaluate_pairs};
 use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::table::gpu_bound::GpuErrorBound;
-use clothbake::table::{Layout, Table, split_frame};
+use clothbake::table::{Layout, Table};
 use glam::{DVec3, Vec3};
 use std::time::Instant;
 
@@ -46,9 +46,7 @@ fn compare(fabric_name: &str, layout: Layout, resolution: u32, seed: u64) {
         .clone();
     let table = bake(&fabric, layout, resolution, &|| {}).expect("bake");
     let baked = start.elapsed();
-    // The lookup that follows `Table::lookup`, horizon band included, whatever the adapter.
-    let gpu_table =
-        GpuTable::with_horizon_band(&context, &table, Some(true)).expect("upload table");
+    let gpu_table = GpuTable::new(&context, &table).expect("upload table");
     let pairs = pairs(&table, seed);
     let gpu_start = Instant::now();
     let gpu = evaluate_pairs(&context, &gpu_table, &pairs).expect("GPU lookup");
@@ -161,57 +159,4 @@ fn split_frame_linen_matches_cpu() {
 #[test]
 fn grid4d_matches_cpu() {
     compare("silk_shot", Layout::GRID4D, 12, 37);
-}
-
-/// split_frame's lookup without the horizon band (what `GpuTable::new` builds on a software
-/// rasteriser) against the one with it, on the same device: pairs outside the band must get
-/// the same F (the same table code, compiled in another shader); pairs inside it read the
-/// table instead of the resonant quadrature, so they differ by the table's error there,
-/// which is printed.
-#[test]
-fn split_frame_without_horizon_band_changes_only_the_band() {
-    let context = gpu_context();
-    let fabric = FabricSet::builtin()
-        .get("polyester_satin_charmeuse")
-        .expect("built-in fabric")
-        .clone();
-    let table = bake(&fabric, Layout::SPLIT_FRAME, 12, &|| {}).expect("bake");
-    let geometry = table
-        .geometry_as::<split_frame::Geometry>()
-        .expect("split_frame geometry");
-    let pairs = pairs(&table, 47);
-    let evaluate = |horizon_band| {
-        let gpu_table = GpuTable::with_horizon_band(&context, &table, Some(horizon_band))
-            .expect("upload table");
-        println!("{}", gpu_table.label());
-        evaluate_pairs(&context, &gpu_table, &pairs).expect("GPU lookup")
-    };
-    let (with_band, without) = (evaluate(true), evaluate(false));
-    let (mut in_band, mut outside_worst, mut band_squared, mut band_norm) = (0, 0.0f64, 0.0, 0.0);
-    for ((&(wi, wo), a), b) in pairs.iter().zip(&with_band).zip(&without) {
-        let (a, b) = (Vec3::from(*a).as_dvec3(), Vec3::from(*b).as_dvec3());
-        if geometry.in_horizon_band(wi.as_dvec3(), wo.as_dvec3()) {
-            in_band += 1;
-            band_squared += (a - b).length_squared();
-            band_norm += a.length_squared();
-        } else {
-            outside_worst =
-                outside_worst.max((a - b).abs().max_element() / (a.max_element() + 1e-6));
-        }
-    }
-    println!(
-        "{} pairs, {in_band} in the horizon band: outside it the largest difference is \
-         {outside_worst:.2e} of F (+1e-6); inside it the band-free lookup is {:.2}% off (relative \
-         RMS against the band's resonant quadrature)",
-        pairs.len(),
-        100.0 * (band_squared / band_norm).sqrt()
-    );
-    assert!(in_band > 0, "the pairs must reach the band");
-    // The same f32 operations in both shaders; 1e-5 leaves room for a compiler that fuses
-    // them differently in the two pipelines.
-    assert!(outside_worst <= 1e-5, "{outside_worst:e}");
-    assert!(
-        band_squared > 0.0,
-        "without the band its pairs must read the table"
-    );
 }

@@ -9,7 +9,6 @@ use crate::common::*;
 use clothbake::bake::bake;
 use clothbake::table::Layout;
 use clothbake::table::shader_language::{KERNEL_ENTRY, ShaderLanguage, lookup_shader};
-use clothbake::table::wgsl::LookupShaderOptions;
 use std::process::Command;
 
 /// Runs glslangValidator on `file` with `args`; its output when it fails.
@@ -33,7 +32,6 @@ fn glslang(args: &[&str]) -> Result<(), String> {
 #[test]
 fn translations_compile_with_glslang_for_every_layout() {
     let dir = temp_dir("shader-language");
-    let options = LookupShaderOptions::default();
     let mut failures = Vec::new();
     for &layout in Layout::ALL {
         for name in ["polyester_satin_charmeuse", "velvet"] {
@@ -41,21 +39,13 @@ fn translations_compile_with_glslang_for_every_layout() {
             let table = bake(&fabric(name), layout, resolution, &|| {}).unwrap();
             let stem = dir.join(format!("{}-{name}", layout.name()));
             let glsl = stem.with_extension("comp");
-            std::fs::write(
-                &glsl,
-                lookup_shader(&table, ShaderLanguage::Glsl, &options).unwrap(),
-            )
-            .unwrap();
+            std::fs::write(&glsl, lookup_shader(&table, ShaderLanguage::Glsl).unwrap()).unwrap();
             let spv = stem.with_extension("spv");
             if let Err(e) = glslang(&["-V", path_str(&glsl), "-o", path_str(&spv)]) {
                 failures.push(format!("{} GLSL: {e}", glsl.display()));
             }
             let hlsl = stem.with_extension("hlsl");
-            std::fs::write(
-                &hlsl,
-                lookup_shader(&table, ShaderLanguage::Hlsl, &options).unwrap(),
-            )
-            .unwrap();
+            std::fs::write(&hlsl, lookup_shader(&table, ShaderLanguage::Hlsl).unwrap()).unwrap();
             let args = [
                 "-D",
                 "-V",
@@ -70,7 +60,7 @@ fn translations_compile_with_glslang_for_every_layout() {
             if let Err(e) = glslang(&args) {
                 failures.push(format!("{} HLSL: {e}", hlsl.display()));
             }
-            let msl = lookup_shader(&table, ShaderLanguage::Msl, &options).unwrap();
+            let msl = lookup_shader(&table, ShaderLanguage::Msl).unwrap();
             for declaration in ["cloth_brdf(", &format!("kernel void {KERNEL_ENTRY}(")] {
                 if !msl.contains(declaration) {
                     failures.push(format!(

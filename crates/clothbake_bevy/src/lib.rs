@@ -53,9 +53,7 @@ pub use mesh::cloth_mesh;
 pub use table_asset::{ALBEDO_SAMPLES, ClothTable, ClothTableError, ClothTableLoader};
 
 use bevy::prelude::*;
-use bevy::render::renderer::RenderAdapterInfo;
 use bevy::shader::Shader;
-use clothbake::table::wgsl::LookupShaderOptions;
 
 /// Registers [`ClothTable`], its loader and [`ClothMaterial`].
 pub struct ClothPlugin;
@@ -63,6 +61,7 @@ pub struct ClothPlugin;
 impl Plugin for ClothPlugin {
     fn build(&self, app: &mut App) {
         app.init_asset::<ClothTable>()
+            .register_asset_loader(ClothTableLoader)
             .add_plugins(MaterialPlugin::<ClothMaterial>::default());
         app.world_mut()
             .resource_mut::<Assets<Shader>>()
@@ -74,19 +73,5 @@ impl Plugin for ClothPlugin {
                 ),
             )
             .expect("a UUID handle is always valid");
-    }
-
-    /// Registers the table loader with the lookup for the renderer's adapter, which Bevy's
-    /// `RenderPlugin` has put in the main world by now (as Bevy's image loader does with
-    /// the adapter's texture formats).
-    fn finish(&self, app: &mut App) {
-        // wgpu's DeviceType by its name: Bevy does not re-export the enum.
-        let software = app
-            .world()
-            .get_resource::<RenderAdapterInfo>()
-            .is_some_and(|info| format!("{:?}", info.device_type) == "Cpu");
-        app.register_asset_loader(ClothTableLoader::new(LookupShaderOptions::for_adapter(
-            software, None,
-        )));
     }
 }

@@ -27,7 +27,7 @@ use clothbake::formats::table_exr::{MAX_TABLE_FILE_BYTES, TableFileError, read_t
 use clothbake::sampling::{ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap, Sampler};
 use clothbake::shader;
 use clothbake::table::TextureData;
-use clothbake::table::wgsl::{LookupShaderOptions, lookup_composer};
+use clothbake::table::wgsl::lookup_composer;
 
 /// The fragment shader, composed by clothbake's composer after the modules its header
 /// requires (the table's lookup and the fabric sampler).
@@ -86,22 +86,8 @@ pub enum ClothTableError {
 /// Loads clothbake tables (`.exr`) as [`ClothTable`]s. Bevy's own EXR image loader (the
 /// `exr` feature, off by default) claims the extension too; load tables as `ClothTable`
 /// (`asset_server.load::<ClothTable>(…)`) and Bevy picks this loader by type.
-///
-/// The lookup in the shader is the one for the adapter ([`LookupShaderOptions::for_adapter`]:
-/// without split_frame's horizon band on a software rasteriser, which would run its resonant
-/// kernel in every pixel); [`crate::ClothPlugin`] registers the loader once the renderer has
-/// chosen its adapter.
 #[derive(Default, TypePath)]
-pub struct ClothTableLoader {
-    lookup: LookupShaderOptions,
-}
-
-impl ClothTableLoader {
-    /// A loader whose shaders have the lookup of `lookup`.
-    pub fn new(lookup: LookupShaderOptions) -> Self {
-        Self { lookup }
-    }
-}
+pub struct ClothTableLoader;
 
 impl AssetLoader for ClothTableLoader {
     type Asset = ClothTable;
@@ -161,7 +147,7 @@ impl AssetLoader for ClothTableLoader {
 
         // The table's bindings in the material's group, a value Bevy's preprocessor
         // substitutes.
-        let source = lookup_composer(table, &self.lookup)
+        let source = lookup_composer(table)
             .brdf_group("#{MATERIAL_BIND_GROUP}")
             .module(shader::SAMPLER_CONSTANTS, Sampler::wgsl_constants())
             .module(MATERIAL_MODULE, MATERIAL_WGSL)

@@ -263,7 +263,7 @@ impl Evaluator {
         &self.spelling
     }
 
-    /// A short description (`table thread_frame R=48`).
+    /// A short description (`table split_frame R=31`).
     #[getter]
     fn label(&self) -> String {
         self.inner.label()
@@ -465,7 +465,7 @@ impl Table {
     }
 }
 
-/// Bakes `fabric` into a table of `layout` (default `thread_frame`) at `resolution`
+/// Bakes `fabric` into a table of `layout` (default `split_frame`) at `resolution`
 /// (default: the layout's) and writes it to `path` atomically (a temporary file, then a
 /// rename); returns the table as read back.
 #[pyfunction]

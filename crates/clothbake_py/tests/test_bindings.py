@@ -82,7 +82,7 @@ def test_sampler_draws_and_densities_are_the_rust_library_s(cli, rng, fabric):
 def test_a_baked_table_checks_as_clothbake_check_reports_it(cli, small_tables, tmp_path):
     table = small_tables["linen_plain"]
     assert (table.layout, table.resolution, table.fabric.name) == (
-        "thread_frame",
+        "split_frame",
         12,
         "linen_plain",
     )

@@ -31,7 +31,12 @@ def tables(tmp_path_factory):
     weights cheap)."""
     directory = tmp_path_factory.mktemp("mitsuba_tables")
     for name in clothbake.fabric_names():
-        clothbake.bake(clothbake.Fabric.builtin(name), directory / f"{name}.exr", resolution=12)
+        clothbake.bake(
+            clothbake.Fabric.builtin(name),
+            directory / f"{name}.exr",
+            layout="thread_frame",
+            resolution=12,
+        )
     return directory
 
 

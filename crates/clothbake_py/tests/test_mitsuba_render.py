@@ -179,7 +179,12 @@ def tables(tmp_path_factory):
     not of the table."""
     directory = tmp_path_factory.mktemp("render_tables")
     for fabric in FABRICS:
-        clothbake.bake(clothbake.Fabric.builtin(fabric), directory / f"{fabric}.exr", resolution=12)
+        clothbake.bake(
+            clothbake.Fabric.builtin(fabric),
+            directory / f"{fabric}.exr",
+            layout="thread_frame",
+            resolution=12,
+        )
     return directory
 
 

@@ -38,7 +38,7 @@ class Evaluator:
 
     @property
     def label(self) -> str:
-        """A short description (``table thread_frame R=48``)."""
+        """A short description (``table split_frame R=31``)."""
 
     def eval(self, wi: _Directions, wo: _Directions) -> npt.NDArray[np.float64]:
         """F(wi, wo) per row, RGB, shape (N, 3); 0 where either direction is on or below
@@ -89,7 +89,7 @@ def evaluator_syntaxes() -> list[str]:
 def bake(
     fabric: Fabric, path: _Path, layout: Optional[str] = None, resolution: Optional[int] = None
 ) -> Table:
-    """Bakes ``fabric`` into a table of ``layout`` (default ``thread_frame``) at
+    """Bakes ``fabric`` into a table of ``layout`` (default ``split_frame``) at
     ``resolution`` (default: the layout's), written to ``path`` atomically."""
 
 def load_scene(path: Optional[_Path] = None) -> dict:
