@@ -1,9 +1,8 @@
 // The resonant quadrature's `cloth_brdf` (src/gpu/resonant.rs), after
 // shaders/model/resonant_quadrature.wgsl and the generated module `resonant_fabric`: the
 // constants `CLOTH_RESONANT_COVERAGE`, `CLOTH_RESONANT_GAP` and `CLOTH_RESONANT_ALBEDO_0/1`
-// and the functions `cloth_resonant_means_0/1`. Apart from the kernel, which split_frame
-// tables also use (their horizon band), because a table lookup defines a `cloth_brdf` of its
-// own.
+// and the functions `cloth_resonant_means_0/1`; the kernel is its own file, apart from this
+// `cloth_brdf`.
 //
 // requires: model/resonant_quadrature, resonant_fabric
 

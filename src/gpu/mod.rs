@@ -24,6 +24,7 @@
 pub mod constant;
 pub mod direct;
 pub mod resonant;
+pub mod resonant_kernel;
 pub mod sampler;
 pub mod table;
 

@@ -13,11 +13,11 @@
 //! its node sets at the pair's kinks as `ResonantRule::segment` does). Everything is a
 //! constant, so group 0 is empty.
 
+use super::resonant_kernel::{resonant_rules_wgsl, resonant_thread_wgsl};
 use super::{GpuBrdf, GpuContext, GpuError};
 use crate::model::Fabric;
 use crate::model::resonant::ResonantNodes;
 use crate::shader::{self, Composer};
-use crate::table::resonant_kernel::{resonant_rules_wgsl, resonant_thread_wgsl};
 use crate::table::wgsl::{wgsl_f32, wgsl_vec};
 use std::fmt::Write;
 
@@ -27,7 +27,7 @@ pub const MODULE: &str = "gpu/resonant";
 /// The complete WGSL module of [`GpuResonant`]: `shaders/gpu/resonant.wgsl` (`cloth_brdf`)
 /// and what it requires, the tangent sample and the kernel templates and the generated
 /// modules [`shader::RESONANT_RULES`] (the kernel's constants for `fabric` at `nodes`,
-/// [`crate::table::resonant_kernel`]) and [`shader::RESONANT_FABRIC`] (the constants of
+/// [`super::resonant_kernel`]) and [`shader::RESONANT_FABRIC`] (the constants of
 /// `cloth_brdf`: coverage, gap, albedos; and the per-thread functions). `fabric` must be
 /// valid.
 pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {

@@ -24,7 +24,6 @@ pub mod grid4d;
 pub mod octahedral;
 pub mod point_samples;
 pub mod prefilter;
-pub mod resonant_kernel;
 pub mod shader_language;
 pub mod split_frame;
 pub mod thread_frame;

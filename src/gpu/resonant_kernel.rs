@@ -4,13 +4,9 @@
 //! means (⟨reflection⟩, ⟨transmission⟩, ⟨P⟩) of `ThreadModel::means` with
 //! `Integration::Resonant(nodes)`, in f32.
 //!
-//! Two shaders use it: the resonant quadrature's own (`clothbake::gpu::resonant`, which adds
-//! `cloth_brdf`) and a split_frame table's lookup, which evaluates the sloped segments of the
-//! pairs in its horizon band by it ([`super::split_frame`]). It lives with the tables, not
-//! in the runtime, because a lookup's WGSL is generated without wgpu.
+//! The resonant quadrature's shader (`clothbake::gpu::resonant`, which adds `cloth_brdf`)
+//! uses it; no table lookup does.
 
-use super::thread_frame::thread_frame_of;
-use super::wgsl::{degenerate_threshold, unit_area_gaussian, wgsl_f32, wgsl_vec};
 use crate::model::Fabric;
 use crate::model::curve::{Integration, curve_pieces};
 use crate::model::fabric::ModelOptions;
@@ -18,6 +14,8 @@ use crate::model::resonant::{
     FLAT_LOBE_SPAN, GaussLegendre, LOBE_Z_RANGE, MIN_NODES_PER_PART, NEGLIGIBLE_LOBE_Z,
     ResonantNodes, SPLIT_TOLERANCE, TAIL_MASS,
 };
+use crate::table::thread_frame::thread_frame_of;
+use crate::table::wgsl::{degenerate_threshold, unit_area_gaussian, wgsl_f32, wgsl_vec};
 use std::fmt::Write;
 
 /// The rule's constants for the reweighting width σu of `options` and `nodes`: the
