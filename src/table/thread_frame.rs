@@ -11,7 +11,7 @@
 //!
 //! | axis | value | range | texels |
 //! |---|---|---|---|
-//! | 0 | βH | [−90°, 90°], piecewise linear: 70% of the texels on the band [−α_max − 4σs, −α_min + 4σs] where the curve's ridges lie | 3 per σs over the band (at least 16), both threads scaled down together to keep the table within 16 MiB |
+//! | 0 | βH | [−90°, 90°], piecewise linear: 70% of the texels on the band [−α_max − 4σs, −α_min + 4σs] where the curve's ridges lie (a curve that jumps, as velvet's thread 2 does, has two bands at the ends of the axis and the gap between them gets the 30%; `RidgeBands`) | 3 per σs over the bands (at least 16), both threads scaled down together to keep the table within 16 MiB |
 //! | 1 | θd' = asin s, s = ½(wi·t' − wo·t') | [−L, L], L = 90° − 1e-4 rad, `Warp::SinEnds` k = 1.4 (denser towards grazing) | R |
 //! | 2 | u = (φi' + φo')/2 | [0°, 90°], linear | 0.29·R |
 //! | 3 | v = (φi' − φo')/2 | [−90°, 90°], linear | the odd count nearest 0.83·R (v = 0 a texel line) |
@@ -71,6 +71,7 @@ use super::wgsl::{coverage_wgsl, wgsl_f32};
 use super::{
     BATCH_LANES, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, quadrilinear_corners,
 };
+use crate::model::fabric::TangentSampling;
 use crate::model::{Fabric, Integration, patch::ThreadModel};
 use glam::{DVec3, Vec3, Vec4, Vec4Swizzles};
 use half::f16;
@@ -210,10 +211,11 @@ impl AxisPlan {
     }
 
     /// βH texels of thread `index` of `fabric` before any byte budget: the plan's texels
-    /// per σs on the ridge band, at least 16.
+    /// per σs on the ridge bands, at least 16.
     pub fn beta_texels(&self, fabric: &Fabric, index: usize) -> usize {
-        let (lo, hi, sigma_s) = ridge_band(fabric, index);
-        (((hi - lo) / sigma_s * self.beta_texels_per_sigma / self.beta_focus).ceil() as usize)
+        let bands = RidgeBands::of(fabric, index);
+        ((bands.length() / bands.sigma_s * self.beta_texels_per_sigma / self.beta_focus).ceil()
+            as usize)
             .max(MIN_BETA_TEXELS)
     }
 }
@@ -247,27 +249,77 @@ pub(crate) fn lanes_in_thread_axes<L: Lanes>(thread2: bool, w: &[Vec3]) -> [L; 3
     [lanes(along), lanes(across), lanes(|w| w.z)]
 }
 
-/// The band of βH where thread `index`'s ridges lie, and its σs (radians).
-fn ridge_band(fabric: &Fabric, index: usize) -> (f64, f64, f64) {
-    let thread = fabric.threads()[index];
-    let sigma_s = fabric
-        .options
-        .lobe_sigma_deg(thread.gamma_s_deg)
-        .to_radians();
-    let offsets = &thread.offsets_deg;
-    let alpha_min = offsets
-        .iter()
-        .copied()
-        .fold(f64::INFINITY, f64::min)
-        .to_radians();
-    let alpha_max = offsets
-        .iter()
-        .copied()
-        .fold(f64::NEG_INFINITY, f64::max)
-        .to_radians();
-    let lo = (-alpha_max - 4.0 * sigma_s).max(-FRAC_PI_2);
-    let hi = (-alpha_min + 4.0 * sigma_s).min(FRAC_PI_2);
-    (lo, hi, sigma_s)
+/// Where thread `index`'s ridges lie on the βH axis: each segment of its tangent curve
+/// (offsets α from a to b; with control-point sampling, each control point) puts ridges on
+/// βH ∈ [−b, −a], widened by 4σs on either side
+/// (radians, within [−90°, 90°]); overlapping bands merged, in increasing order.
+///
+/// A curve with a jump has a gap between its bands where no ridge lies (velvet's thread 2:
+/// −90° to −55°, then 55° to 90°), and only the broad volume lobes and the diffuse term
+/// vary there, slowly.
+#[derive(Clone, Debug, PartialEq)]
+struct RidgeBands {
+    bands: Vec<(f64, f64)>,
+    sigma_s: f64,
+}
+
+impl RidgeBands {
+    fn of(fabric: &Fabric, index: usize) -> Self {
+        let thread = fabric.threads()[index];
+        let sigma_s = fabric
+            .options
+            .lobe_sigma_deg(thread.gamma_s_deg)
+            .to_radians();
+        let offsets = &thread.offsets_deg;
+        let at_points = fabric.options.tangent_sampling == TangentSampling::ControlPoints;
+        let mut spans: Vec<(f64, f64)> = if offsets.len() == 1 || at_points {
+            offsets.iter().map(|&a| (a, a)).collect()
+        } else {
+            (0..offsets.len() - 1)
+                .filter(|&k| offsets.len() == 2 || thread.lengths[k] > 0.0)
+                .map(|k| {
+                    (
+                        offsets[k].min(offsets[k + 1]),
+                        offsets[k].max(offsets[k + 1]),
+                    )
+                })
+                .collect()
+        };
+        if spans.is_empty() {
+            spans.push((offsets[0], offsets[0]));
+        }
+        let mut bands: Vec<(f64, f64)> = spans
+            .iter()
+            .map(|&(a, b)| {
+                (
+                    (-b.to_radians() - 4.0 * sigma_s).max(-FRAC_PI_2),
+                    (-a.to_radians() + 4.0 * sigma_s).min(FRAC_PI_2),
+                )
+            })
+            .collect();
+        bands.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let mut merged: Vec<(f64, f64)> = Vec::new();
+        for (lo, hi) in bands {
+            match merged.last_mut() {
+                Some(last) if lo <= last.1 => last.1 = last.1.max(hi),
+                _ => merged.push((lo, hi)),
+            }
+        }
+        Self {
+            bands: merged,
+            sigma_s,
+        }
+    }
+
+    /// The total length of the bands (radians).
+    fn length(&self) -> f64 {
+        self.bands.iter().map(|(lo, hi)| hi - lo).sum()
+    }
+
+    /// The smallest interval holding every band.
+    fn hull(&self) -> (f64, f64) {
+        (self.bands[0].0, self.bands[self.bands.len() - 1].1)
+    }
 }
 
 /// βH texels of both threads: 3 per σs on each ridge band, scaled down together (to at
@@ -303,9 +355,26 @@ impl ThreadGeometry {
         plan: &AxisPlan,
     ) -> Self {
         let (t0, b) = thread_frame_of(index);
-        let (lo, hi, _) = ridge_band(fabric, index);
+        let bands = RidgeBands::of(fabric, index);
+        let (lo, hi) = bands.hull();
         let [n_theta, n_u, n_v] = plan.inner_texels(resolution);
-        let beta = if hi - lo > 0.9 * PI {
+        let edge = FRAC_PI_2 - 1e-6;
+        let beta = if let [(a_lo, a_hi), (b_lo, b_hi)] = bands.bands[..]
+            && a_lo <= -edge
+            && b_hi >= edge
+        {
+            // Two bands reaching the ends of the axis with a gap between them: the bands share
+            // the plan's focus in proportion to their length, the gap the rest.
+            let (left, right) = (a_hi - a_lo, b_hi - b_lo);
+            let x1 = plan.beta_focus * left / (left + right);
+            Axis::clamped(
+                n_beta,
+                Warp::Knots {
+                    xs: [0.0, x1, x1 + 1.0 - plan.beta_focus, 1.0],
+                    vs: [-FRAC_PI_2, a_hi, b_lo, FRAC_PI_2],
+                },
+            )
+        } else if hi - lo > 0.9 * PI {
             Axis::clamped(
                 n_beta,
                 Warp::Linear {
