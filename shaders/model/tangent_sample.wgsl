@@ -20,9 +20,11 @@ struct ClothSamplePair {
     to0: f32,
     zo: f32,
     bo: f32,
-    // |w∥| = √((w·t0)² + (w·z)²), independent of α.
+    // |w∥| = √((w·t0)² + (w·z)²), independent of α, and its reciprocal.
     par_i: f32,
     par_o: f32,
+    inverse_par_i: f32,
+    inverse_par_o: f32,
     // u(ψd), the reweighting of P.
     u_psi: f32,
 }
@@ -86,6 +88,8 @@ fn cloth_sample_pair(wi: vec3<f32>, wo: vec3<f32>, t0: vec3<f32>, b: vec3<f32>, 
     p.bo = dot(wo, b);
     p.par_i = sqrt(p.ti0 * p.ti0 + p.zi * p.zi);
     p.par_o = sqrt(p.to0 * p.to0 + p.zo * p.zo);
+    p.inverse_par_i = 1.0 / p.par_i;
+    p.inverse_par_o = 1.0 / p.par_o;
     let psi_d = cloth_sample_angle(vec2<f32>(p.ti0, p.zi) / p.par_i,
         vec2<f32>(p.to0, p.zo) / p.par_o).x;
     p.u_psi = exp(psi_d * psi_d * k_u);
@@ -108,35 +112,29 @@ fn cloth_sample_terms(p: ClothSamplePair, m: ClothSampleMaterial, cos_a: f32, si
     if perp_i <= m.threshold || perp_o <= m.threshold {
         return vec4<f32>(0.0);
     }
-    let masking_p = cloth_sample_reweighted(p.u_psi, ni / p.par_i, no / p.par_o);
+    let masking_p = cloth_sample_reweighted(p.u_psi, ni * p.inverse_par_i, no * p.inverse_par_o);
 
     // φd between the unit projections w⊥/|w⊥| = ((w·n), (w·b))/|w⊥|.
-    let phi = cloth_sample_angle(vec2<f32>(ni, p.bi) / perp_i, vec2<f32>(no, p.bo) / perp_o);
+    let inverse_perp_i = 1.0 / perp_i;
+    let inverse_perp_o = 1.0 / perp_o;
+    let mi = ni * inverse_perp_i;
+    let mo = no * inverse_perp_o;
+    let phi = cloth_sample_angle(vec2<f32>(mi, p.bi * inverse_perp_i),
+        vec2<f32>(mo, p.bo * inverse_perp_o));
     let u_phi = exp(phi.x * phi.x * m.k_u);
     let cos_half_phi_d = phi.y;
-    let shadowing_m = cloth_sample_reweighted(u_phi, ni / perp_i, no / perp_o);
+    let shadowing_m = cloth_sample_reweighted(u_phi, mi, mo);
 
-    // θ from atan2 of accurate sine (w·t) and cosine (|w⊥|).
+    // θh and cos²θd as `half_angle_and_difference` (src/model/patch.rs) takes them: (|w⊥|, w·t)
+    // is each direction's (cos θ, sin θ), of length |w| = 1, so their sum is
+    // 2 cos θd (cos θh, sin θh). Its x is a sum of non-negative terms, so cos²θd keeps its
+    // relative accuracy as both directions approach ±t, where y cancels.
     let si = p.ti0 * cos_a + p.zi * sin_a;
     let so = p.to0 * cos_a + p.zo * sin_a;
-    let theta_h = 0.5 * (atan2(si, perp_i) + atan2(so, perp_o));
-    // cos²θd = (1 + cos(θi − θo))/2 = (1 + ĉi ĉo + ŝi ŝo)/2 with (ĉ, ŝ) = (cos θ, sin θ).
-    // When ŝi ŝo < 0 it cancels as both directions approach ±t (θd → ±π/2, where the CPU's
-    // f64 cos((θi − θo)/2) is still accurate but f32 is not): there
-    // 1 + ŝi ŝo = di + do − di do with d = 1 − |ŝ| = ĉ²/(1 + |ŝ|), all terms accurate.
-    let ri = sqrt(si * si + perp_i * perp_i);
-    let ro = sqrt(so * so + perp_o * perp_o);
-    let ci = perp_i / ri;
-    let co = perp_o / ro;
-    let sin_i = si / ri;
-    let sin_o = so / ro;
-    var cos2_theta_d = 0.5 * (1.0 + ci * co + sin_i * sin_o);
-    if sin_i * sin_o < 0.0 {
-        let di = ci * ci / (1.0 + abs(sin_i));
-        let do_ = co * co / (1.0 + abs(sin_o));
-        cos2_theta_d = 0.5 * (di + do_ - di * do_ + ci * co);
-    }
-    cos2_theta_d = min(cos2_theta_d, 1.0);
+    let x = perp_i + perp_o;
+    let y = si + so;
+    let theta_h = atan2(y, x);
+    let cos2_theta_d = min(0.25 * (x * x + y * y), 1.0);
     let fresnel = cloth_sample_fresnel(m.eta, m.no_interface != 0.0,
         sqrt(cos2_theta_d) * cos_half_phi_d);
 

@@ -97,10 +97,11 @@ impl PointSamples {
             [pair.to0 / par_o, pair.zo / par_o],
         );
         let u_psi = fast_math::exp(psi_d * psi_d * L::splat(self.k_u));
+        let inverse_par = (L::splat(1.0) / par_i, L::splat(1.0) / par_o);
         let mut sums = [zero; 3];
         for &[cos_a, sin_a, weight] in &self.points {
             let [masking, reflection, transmission] =
-                self.terms(&pair, par_i, par_o, u_psi, L::splat(cos_a), L::splat(sin_a));
+                self.terms(&pair, inverse_par, u_psi, L::splat(cos_a), L::splat(sin_a));
             let weight = L::splat(weight);
             sums[0] = sums[0] + weight * L::select(valid, reflection, zero);
             sums[1] = sums[1] + weight * L::select(valid, transmission, zero);
@@ -115,13 +116,12 @@ impl PointSamples {
     fn terms<L: Lanes>(
         &self,
         p: &Pair<L>,
-        par_i: L,
-        par_o: L,
+        (inverse_par_i, inverse_par_o): (L, L),
         u_psi: L,
         cos_a: L,
         sin_a: L,
     ) -> [L; 3] {
-        let (zero, one, half) = (L::splat(0.0), L::splat(1.0), L::splat(0.5));
+        let (zero, one) = (L::splat(0.0), L::splat(1.0));
         // w·n(α); cos θ = |w⊥| = √((w·n)² + (w·b)²).
         let ni = p.zi * cos_a - p.ti0 * sin_a;
         let no = p.zo * cos_a - p.to0 * sin_a;
@@ -132,29 +132,22 @@ impl PointSamples {
             L::and(ni.gt(zero), no.gt(zero)),
             L::and(perp_i.gt(threshold), perp_o.gt(threshold)),
         );
-        let masking_p = reweighted(u_psi, ni / par_i, no / par_o);
+        let masking_p = reweighted(u_psi, ni * inverse_par_i, no * inverse_par_o);
         // φd between the unit projections w⊥/|w⊥| = ((w·n), (w·b))/|w⊥|.
+        let (inverse_perp_i, inverse_perp_o) = (one / perp_i, one / perp_o);
+        let (mi, mo) = (ni * inverse_perp_i, no * inverse_perp_o);
         let (phi_d, cos_half_phi_d) =
-            angle([ni / perp_i, p.bi / perp_i], [no / perp_o, p.bo / perp_o]);
+            angle([mi, p.bi * inverse_perp_i], [mo, p.bo * inverse_perp_o]);
         let u_phi = fast_math::exp(phi_d * phi_d * L::splat(self.k_u));
-        let shadowing_m = reweighted(u_phi, ni / perp_i, no / perp_o);
-        // θ from atan2 of the accurate sine (w·t) and cosine (|w⊥|).
+        let shadowing_m = reweighted(u_phi, mi, mo);
+        // θh and cos²θd by `half_angle_and_difference` (src/model/patch.rs): (|w⊥|, w·t) is
+        // each direction's (cos θ, sin θ), of length |w| = 1, so their sum is
+        // 2 cos θd (cos θh, sin θh).
         let si = p.ti0 * cos_a + p.zi * sin_a;
         let so = p.to0 * cos_a + p.zo * sin_a;
-        let theta_h = half * (fast_math::atan2(si, perp_i) + fast_math::atan2(so, perp_o));
-        // cos²θd = (1 + ĉi ĉo + ŝi ŝo)/2, and where ŝi ŝo < 0 (both directions towards ±t)
-        // the cancellation-free 1 + ŝi ŝo = di + do − di do, d = 1 − |ŝ| = ĉ²/(1 + |ŝ|).
-        let ri = (si * si + perp_i * perp_i).sqrt();
-        let ro = (so * so + perp_o * perp_o).sqrt();
-        let (ci, co, sin_i, sin_o) = (perp_i / ri, perp_o / ro, si / ri, so / ro);
-        let di = ci * ci / (one + sin_i.abs());
-        let d_o = co * co / (one + sin_o.abs());
-        let cos2_theta_d = L::select(
-            (sin_i * sin_o).lt(zero),
-            half * (di + d_o - di * d_o + ci * co),
-            half * (one + ci * co + sin_i * sin_o),
-        )
-        .min(one);
+        let (x, y) = (perp_i + perp_o, si + so);
+        let theta_h = fast_math::atan2(y, x);
+        let cos2_theta_d = (L::splat(0.25) * (x * x + y * y)).min(one);
         let (fr, ft) = self.fresnel(cos2_theta_d.sqrt() * cos_half_phi_d);
         // The bounded products: M·P·cos θi/cos²θd, and cos θi/(cos θi + cos θo) ≤ 1.
         let bounded = shadowing_m * masking_p / cos2_theta_d;

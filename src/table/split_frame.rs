@@ -42,14 +42,12 @@
 //! `Q = Σ_j a_j (Σ_k w_k P_k + w_c⟨P⟩_c) + (1 − a1 − a2)·wo.z` and `F = Σ_j a_j ⟨s⟩_j / Q`.
 //!
 //! # The horizon
-//! Nothing in a lookup integrates the curve: the horizon is the table's own. The texels
-//! below the horizon hold the continuation above, so a pair a fraction of a degree above the
-//! horizon interpolates between a texel inside and one continued outside, as any other pair
-//! interpolates; and v = 0, where min(M(wi), M(wo)) kinks, is a texel line. Measured on
-//! 20,000 uniform and 20,000 highlight pairs per fabric at 31 (docs/tables.md#what-was-tried):
-//! the pairs within 1° of the horizon raise the worse of the two sets by at most 0.16
-//! points over what the resonant quadrature there gave (satin back 0.24 → 0.40%), and every
-//! fabric stays within 1%.
+//! Nothing in a lookup integrates the curve; pairs near the horizon are no special case.
+//! The texels below the horizon hold the continuation above, so a pair a fraction of a
+//! degree up interpolates between a texel inside and one continued outside as any other
+//! pair interpolates, and v = 0, where min(M(wi), M(wo)) kinks, is a texel line. Every
+//! built-in fabric is within 1% at 31, horizon included
+//! (docs/tables.md#the-horizon-inside-the-table).
 //!
 //! # GPU textures
 //! The sloped tables as thread_frame arranges them (bindings 4 and 5, 3D, only for threads

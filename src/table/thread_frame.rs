@@ -1064,4 +1064,47 @@ mod tests {
             }
         }
     }
+
+    /// Velvet's thread 2 jumps from −55° to 55°: two bands reaching the ends of the axis,
+    /// with the gap between them free of ridges, and βH texels holding the axis' values
+    /// there at the plan's focus. A curve without a jump (satin's thread 1) keeps one band.
+    #[test]
+    fn a_curve_that_jumps_has_a_ridge_band_per_segment() {
+        let set = crate::formats::fabric_toml::FabricSet::builtin();
+        let (velvet, satin) = (
+            set.get("velvet").unwrap(),
+            set.get("polyester_satin_charmeuse").unwrap(),
+        );
+        let four_sigma = 4.0 * velvet.options.lobe_sigma_deg(6.0);
+        let bands = RidgeBands::of(velvet, 1).bands;
+        let degrees: Vec<(f64, f64)> = bands
+            .iter()
+            .map(|&(lo, hi)| (lo.to_degrees(), hi.to_degrees()))
+            .collect();
+        assert_eq!(degrees.len(), 2, "{degrees:?}");
+        assert!((degrees[0].0 + 90.0).abs() < 1e-9 && (degrees[1].1 - 90.0).abs() < 1e-9);
+        assert!(
+            (degrees[0].1 - (-55.0 + four_sigma)).abs() < 1e-9,
+            "{degrees:?}"
+        );
+        assert!(
+            (degrees[1].0 - (55.0 - four_sigma)).abs() < 1e-9,
+            "{degrees:?}"
+        );
+        assert_eq!(RidgeBands::of(satin, 0).bands.len(), 1);
+
+        let plan = AxisPlan::THREAD_FRAME;
+        let n = plan.beta_texels(velvet, 1);
+        let axis = ThreadGeometry::planned(velvet, 1, 16, n, &plan).axes[0];
+        let in_gap = (0..n)
+            .filter(|&i| axis.texel_value(i).abs() < bands[1].0)
+            .count();
+        // The gap (62° of 180°) gets the 30% the plan leaves off the bands, give or take
+        // the texels on its edges.
+        let share = in_gap as f64 / n as f64;
+        assert!(
+            (share - (1.0 - plan.beta_focus)).abs() < 2.5 / n as f64,
+            "{share}"
+        );
+    }
 }
