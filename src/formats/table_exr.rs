@@ -47,7 +47,7 @@ use std::path::{Path, PathBuf};
 /// (`model::patch::half_angle_and_difference`) instead of two atan2 and a cos: equal up
 /// to rounding, which flips a few f16 texels.
 /// 7: the βH axis of a thread whose curve jumps (velvet's thread 2) puts its texels on the
-/// bands of its segments' ridges, not on the whole span between them.
+/// bands of its segments' ridges, and fewer on the gap between them.
 pub const BAKER_REVISION: u32 = 7;
 
 /// The first revision that records the `texels` checksum: from it on the checksum is required.

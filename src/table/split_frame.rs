@@ -93,7 +93,7 @@ impl LayoutUnit for SplitFrame {
         "split_frame"
     }
 
-    /// Every built-in fabric's table within 4 MiB (satin's, the largest, 3.2 MiB) and within
+    /// Every built-in fabric's table within 4 MiB (velvet's, the largest, 3.3 MiB) and within
     /// 1%; the six bake in about 22 s on two cores.
     fn default_resolution(&self) -> u32 {
         31

@@ -11,7 +11,7 @@
 //!
 //! | axis | value | range | texels |
 //! |---|---|---|---|
-//! | 0 | βH | [−90°, 90°], piecewise linear: 70% of the texels on the band [−α_max − 4σs, −α_min + 4σs] where the curve's ridges lie (a curve that jumps, as velvet's thread 2 does, has two bands at the ends of the axis and the gap between them gets the 30%; `RidgeBands`) | 3 per σs over the bands (at least 16), both threads scaled down together to keep the table within 16 MiB |
+//! | 0 | βH | [−90°, 90°], piecewise linear: 70% of the texels on the band [−α_max − 4σs, −α_min + 4σs] where the curve's ridges lie (a curve that jumps, as velvet's thread 2 does, has two bands at the ends of the axis, and the gap between them gets 0.3 of their density; `RidgeBands`) | 3 per σs over the bands (at least 16), both threads scaled down together to keep the table within 16 MiB |
 //! | 1 | θd' = asin s, s = ½(wi·t' − wo·t') | [−L, L], L = 90° − 1e-4 rad, `Warp::SinEnds` k = 1.4 (denser towards grazing) | R |
 //! | 2 | u = (φi' + φo')/2 | [0°, 90°], linear | 0.29·R |
 //! | 3 | v = (φi' − φo')/2 | [−90°, 90°], linear | the odd count nearest 0.83·R (v = 0 a texel line) |
@@ -214,8 +214,9 @@ impl AxisPlan {
     /// per σs on the ridge bands, at least 16.
     pub fn beta_texels(&self, fabric: &Fabric, index: usize) -> usize {
         let bands = RidgeBands::of(fabric, index);
-        ((bands.length() / bands.sigma_s * self.beta_texels_per_sigma / self.beta_focus).ceil()
-            as usize)
+        ((bands.weighted_length(self.beta_focus) / bands.sigma_s * self.beta_texels_per_sigma
+            / self.beta_focus)
+            .ceil() as usize)
             .max(MIN_BETA_TEXELS)
     }
 }
@@ -316,6 +317,23 @@ impl RidgeBands {
         self.bands.iter().map(|(lo, hi)| hi - lo).sum()
     }
 
+    /// Where two bands reach the two ends of the axis, the gap between them (radians).
+    fn gap(&self) -> Option<(f64, f64)> {
+        let edge = FRAC_PI_2 - 1e-6;
+        match self.bands[..] {
+            [(a_lo, a_hi), (b_lo, b_hi)] if a_lo <= -edge && b_hi >= edge => Some((a_hi, b_lo)),
+            _ => None,
+        }
+    }
+
+    /// The length the βH texels are counted over: the bands, plus a gap at the share
+    /// `1 − focus` of their density (nothing narrow lies in it). With one band the plan puts
+    /// `focus` of the texels on it and spreads the rest outside.
+    fn weighted_length(&self, focus: f64) -> f64 {
+        let gap = self.gap().map_or(0.0, |(lo, hi)| hi - lo);
+        self.length() + (1.0 - focus) * gap
+    }
+
     /// The smallest interval holding every band.
     fn hull(&self) -> (f64, f64) {
         (self.bands[0].0, self.bands[self.bands.len() - 1].1)
@@ -358,20 +376,17 @@ impl ThreadGeometry {
         let bands = RidgeBands::of(fabric, index);
         let (lo, hi) = bands.hull();
         let [n_theta, n_u, n_v] = plan.inner_texels(resolution);
-        let edge = FRAC_PI_2 - 1e-6;
-        let beta = if let [(a_lo, a_hi), (b_lo, b_hi)] = bands.bands[..]
-            && a_lo <= -edge
-            && b_hi >= edge
-        {
-            // Two bands reaching the ends of the axis with a gap between them: the bands share
-            // the plan's focus in proportion to their length, the gap the rest.
-            let (left, right) = (a_hi - a_lo, b_hi - b_lo);
-            let x1 = plan.beta_focus * left / (left + right);
+        let beta = if let Some((gap_lo, gap_hi)) = bands.gap() {
+            // Two bands reaching the ends of the axis: texels at one density on both, and at
+            // (1 − focus) of it on the gap between them (`RidgeBands::weighted_length`).
+            let total = bands.weighted_length(plan.beta_focus);
+            let x1 = (gap_lo + FRAC_PI_2) / total;
+            let x2 = x1 + (1.0 - plan.beta_focus) * (gap_hi - gap_lo) / total;
             Axis::clamped(
                 n_beta,
                 Warp::Knots {
-                    xs: [0.0, x1, x1 + 1.0 - plan.beta_focus, 1.0],
-                    vs: [-FRAC_PI_2, a_hi, b_lo, FRAC_PI_2],
+                    xs: [0.0, x1, x2, 1.0],
+                    vs: [-FRAC_PI_2, gap_lo, gap_hi, FRAC_PI_2],
                 },
             )
         } else if hi - lo > 0.9 * PI {
@@ -1066,8 +1081,8 @@ mod tests {
     }
 
     /// Velvet's thread 2 jumps from −55° to 55°: two bands reaching the ends of the axis,
-    /// with the gap between them free of ridges, and βH texels holding the axis' values
-    /// there at the plan's focus. A curve without a jump (satin's thread 1) keeps one band.
+    /// with the gap between them free of ridges, where the βH texels are (1 − focus) as
+    /// dense as on the bands. A curve without a jump (satin's thread 1) keeps one band.
     #[test]
     fn a_curve_that_jumps_has_a_ridge_band_per_segment() {
         let set = crate::formats::fabric_toml::FabricSet::builtin();
@@ -1099,12 +1114,15 @@ mod tests {
         let in_gap = (0..n)
             .filter(|&i| axis.texel_value(i).abs() < bands[1].0)
             .count();
-        // The gap (62° of 180°) gets the 30% the plan leaves off the bands, give or take
-        // the texels on its edges.
+        // The gap's share of the texels: its length at (1 − focus) of the bands' density,
+        // give or take the texels on its edges.
+        let (gap_lo, gap_hi) = (bands[0].1, bands[1].0);
+        let gap = (1.0 - plan.beta_focus) * (gap_hi - gap_lo);
+        let expected = gap / (gap + (bands[0].1 - bands[0].0) + (bands[1].1 - bands[1].0));
         let share = in_gap as f64 / n as f64;
         assert!(
-            (share - (1.0 - plan.beta_focus)).abs() < 2.5 / n as f64,
-            "{share}"
+            (share - expected).abs() < 2.5 / n as f64,
+            "{share} {expected}"
         );
     }
 }
