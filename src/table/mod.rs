@@ -97,11 +97,6 @@ pub trait TableLookup: Send + Sync + fmt::Debug + Any {
     /// The layout's part of the generated module `table_constants`: the constants and
     /// functions its WGSL file expects, as literals.
     fn wgsl_constants(&self) -> String;
-    /// Further generated modules that the layout's WGSL file requires by name (see
-    /// `crate::shader`), as (name, source); none by default.
-    fn wgsl_modules(&self) -> Vec<(&'static str, String)> {
-        Vec::new()
-    }
     /// The textures the WGSL file binds, built from the planes.
     fn textures(&self, planes: &[Plane]) -> Vec<TextureData>;
     /// How far the layout's WGSL lookup may be from the f64 lookup `cpu` (= F by

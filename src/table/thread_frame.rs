@@ -273,7 +273,8 @@ impl RidgeBands {
             .to_radians();
         let offsets = &thread.offsets_deg;
         let at_points = fabric.options.tangent_sampling == TangentSampling::ControlPoints;
-        let mut spans: Vec<(f64, f64)> = if offsets.len() == 1 || at_points {
+        // Not empty: a fabric's lengths are not all 0 (`Thread::validate`).
+        let spans: Vec<(f64, f64)> = if offsets.len() == 1 || at_points {
             offsets.iter().map(|&a| (a, a)).collect()
         } else {
             (0..offsets.len() - 1)
@@ -286,9 +287,6 @@ impl RidgeBands {
                 })
                 .collect()
         };
-        if spans.is_empty() {
-            spans.push((offsets[0], offsets[0]));
-        }
         let mut bands: Vec<(f64, f64)> = spans
             .iter()
             .map(|&(a, b)| {

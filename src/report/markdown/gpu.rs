@@ -23,7 +23,8 @@ pub(super) fn gpu_section(report: &Report, md: &mut String) {
         md,
         "The standard scene (tables/scene.toml: the cloth draped over a sphere, a directional \
          and a point light) rendered headless at {w}×{h} for each fabric, by the lookup shader \
-         (the fabric's largest thread_frame table measured above), by the paper-mode shader \
+         (of the fabric's tables measured above, the default layout at its default \
+         resolution, as `bake` makes it, else the largest of that layout), by the paper-mode shader \
          at each N and by the resonant shader. Time: median of {} frames after a warm-up frame ({}). Image error: \
          ‖render − reference‖₂/‖reference‖₂ of the linear radiance over the covered pixels, \
          against the CPU reference render (direct evaluation of the same G-buffer).\n",
