@@ -6,7 +6,7 @@
 //! cargo run --profile ci --example environment_front -- [SIZE] [REFERENCE_SAMPLES] [TIME_SIZE] [ENVS] [FABRICS] [lights]
 //! ```
 //!
-//! Defaults: 128, 1024, 0, every built-in environment, every fabric of the built-in scene
+//! Defaults: 128, 2048, 0, every built-in environment, every fabric of the built-in scene
 //! (ENVS and FABRICS comma-separated). Each fabric's table from `tables/` (bake first), the
 //! environment alone (with the scene's two lights as well when the last argument is `lights`),
 //! the built-in scene's camera and drape. One CPU reference per fabric and environment
@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .nth(i)
             .map_or(default, |a| a.parse().expect("a number"))
     };
-    let (size, reference_samples, time_size) = (arg(1, 128), arg(2, 1024), arg(3, 0));
+    let (size, reference_samples, time_size) = (arg(1, 128), arg(2, 2048), arg(3, 0));
     let list = |i: usize| {
         std::env::args()
             .nth(i)
