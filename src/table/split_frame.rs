@@ -94,7 +94,7 @@ impl LayoutUnit for SplitFrame {
     }
 
     /// Every built-in fabric's table within 4 MiB (velvet's, the largest, 3.3 MiB) and within
-    /// 1%; the six bake in about 22 s on two cores.
+    /// 1%; bake times in docs/performance.md.
     fn default_resolution(&self) -> u32 {
         31
     }
