@@ -48,7 +48,9 @@ use std::path::{Path, PathBuf};
 /// to rounding, which flips a few f16 texels.
 /// 7: the βH axis of a thread whose curve jumps (velvet's thread 2) puts its texels on the
 /// bands of its segments' ridges, and fewer on the gap between them.
-pub const BAKER_REVISION: u32 = 7;
+/// 8: split_frame: the βH axis of a thread whose one ridge band reaches an end of the axis
+/// (velvet's thread 1) is 1.5 times denser on the zone around the band's other edge.
+pub const BAKER_REVISION: u32 = 8;
 
 /// The first revision that records the `texels` checksum: from it on the checksum is required.
 const TEXEL_CHECKSUM_REVISION: u32 = 3;

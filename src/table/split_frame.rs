@@ -22,7 +22,8 @@
 //! [`super::thread_frame`] thread baked from `D_c` alone (`threadJ`: channels
 //! `reflection` = R_c·cos²θd'/⟨P⟩_c and `transmission` = T_c/⟨P⟩_c over (βH, θd', u, v);
 //! `maskingJ`: ⟨P⟩_c over (βi, βo), 129²), with the axes of [`PLAN`]: 1.2 βH texels per σs
-//! on the band of the sloped segments' ridges, θd' R texels (`SinEnds`, k = 1.2), u 0.56R,
+//! on the band of the sloped segments' ridges (1.8 on the zone around the inner edge of a
+//! band that reaches an end of the axis), θd' R texels (`SinEnds`, k = 1.2), u 0.56R,
 //! v the odd count nearest 0.84R; texels hold the least-squares fit of
 //! [`super::prefilter`]. Thread planes come first, then masking planes, both in thread
 //! order.
@@ -77,10 +78,13 @@ use std::sync::Arc;
 /// The axes of the sloped tables (see the module doc). Measured on the six fabrics: βH
 /// needs fewer texels once the point masses' sharp ridges are gone (3 → 1.2 per σs lost
 /// nothing), and u more (doubling it from thread_frame's 0.29R took velvet from 2.7% to
-/// 1.9%).
+/// 1.9%). The edge zone at 1.5 times the density is where velvet's image error came from:
+/// the standard scene at 256² read 0.51% at 31, 33 and 48 alike, and 0.39% with the zone,
+/// for 12% more texels (docs/tables.md#what-was-tried).
 pub const PLAN: AxisPlan = AxisPlan {
     beta_texels_per_sigma: 1.2,
     beta_focus: 0.7,
+    beta_edge_density: 1.5,
     inner_per_resolution: [1.0, 0.56, 0.84],
     theta_warp_k: 1.2,
 };
@@ -93,7 +97,7 @@ impl LayoutUnit for SplitFrame {
         "split_frame"
     }
 
-    /// Every built-in fabric's table within 4 MiB (velvet's, the largest, 3.3 MiB) and within
+    /// Every built-in fabric's table within 4 MiB (velvet's, the largest, 3.6 MiB) and within
     /// 1%; bake times in docs/performance.md.
     fn default_resolution(&self) -> u32 {
         31

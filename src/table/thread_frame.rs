@@ -175,14 +175,17 @@ const BETA_TEXELS_PER_SIGMA: f64 = 3.0;
 const MIN_BETA_TEXELS: usize = 16;
 const THETA_WARP_K: f64 = 1.4;
 
-/// How a thread's axes are sized: βH texels per σs on the ridge band and the share of the
-/// axis the band gets, the texels of θd', u and v per unit of resolution, and the θd'
-/// warp strength. The thread_frame layout uses [`AxisPlan::THREAD_FRAME`]; other layouts
+/// How a thread's axes are sized: βH texels per σs on the ridge band, the share of the
+/// axis the band gets and the density on a band's edge zone ([`RidgeBands::edge`]), the
+/// texels of θd', u and v per unit of resolution, and the θd' warp strength. The thread_frame layout uses [`AxisPlan::THREAD_FRAME`]; other layouts
 /// that tabulate a thread in the same coordinates choose their own.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisPlan {
     pub beta_texels_per_sigma: f64,
     pub beta_focus: f64,
+    /// The βH density on the edge zone of a band that reaches an end of the axis, as a
+    /// multiple of the band's (1: no edge zone).
+    pub beta_edge_density: f64,
     /// θd', u, v texels = these × resolution (at least 4, 3, 4).
     pub inner_per_resolution: [f64; 3],
     pub theta_warp_k: f64,
@@ -192,6 +195,7 @@ impl AxisPlan {
     pub const THREAD_FRAME: AxisPlan = AxisPlan {
         beta_texels_per_sigma: BETA_TEXELS_PER_SIGMA,
         beta_focus: BETA_FOCUS,
+        beta_edge_density: 1.0,
         inner_per_resolution: [1.0, 0.29, 0.83],
         theta_warp_k: THETA_WARP_K,
     };
@@ -214,7 +218,7 @@ impl AxisPlan {
     /// per σs on the ridge bands, at least 16.
     pub fn beta_texels(&self, fabric: &Fabric, index: usize) -> usize {
         let bands = RidgeBands::of(fabric, index);
-        ((bands.weighted_length(self.beta_focus) / bands.sigma_s * self.beta_texels_per_sigma
+        ((bands.weighted_length(self) / bands.sigma_s * self.beta_texels_per_sigma
             / self.beta_focus)
             .ceil() as usize)
             .max(MIN_BETA_TEXELS)
@@ -324,12 +328,32 @@ impl RidgeBands {
         }
     }
 
+    /// Where a single band reaches one end of the axis (velvet's thread 1, −90° to −50°,
+    /// reaches βH = 90°), the zone around its other edge: from that edge 7σs into the band.
+    /// The band starts 4σs before the segment's end, so the zone holds the end's smoothed
+    /// step, −4σs to +3σs about it, where the curve sum changes fastest along βH; inside
+    /// the segment it varies slowly. None where the band is no longer than the zone.
+    fn edge(&self) -> Option<(f64, f64)> {
+        let width = 7.0 * self.sigma_s;
+        match self.bands[..] {
+            [(lo, hi)] if hi - lo <= width => None,
+            [(lo, hi)] if hi >= FRAC_PI_2 && lo > -FRAC_PI_2 => Some((lo, lo + width)),
+            [(lo, hi)] if lo <= -FRAC_PI_2 && hi < FRAC_PI_2 => Some((hi - width, hi)),
+            _ => None,
+        }
+    }
+
     /// The length the βH texels are counted over: the bands, plus a gap at the share
-    /// `1 − focus` of their density (nothing narrow lies in it). With one band the plan puts
-    /// `focus` of the texels on it and spreads the rest outside.
-    fn weighted_length(&self, focus: f64) -> f64 {
+    /// `1 − focus` of their density (nothing narrow lies in it), plus an edge zone's extra
+    /// density. With one band the plan puts `focus` of the texels on it and spreads the
+    /// rest outside.
+    fn weighted_length(&self, plan: &AxisPlan) -> f64 {
         let gap = self.gap().map_or(0.0, |(lo, hi)| hi - lo);
-        self.length() + (1.0 - focus) * gap
+        let edge = self
+            .edge()
+            .filter(|_| plan.beta_edge_density > 1.0)
+            .map_or(0.0, |(lo, hi)| hi - lo);
+        self.length() + (1.0 - plan.beta_focus) * gap + (plan.beta_edge_density - 1.0) * edge
     }
 
     /// The smallest interval holding every band.
@@ -377,7 +401,7 @@ impl ThreadGeometry {
         let beta = if let Some((gap_lo, gap_hi)) = bands.gap() {
             // Two bands reaching the ends of the axis: texels at one density on both, and at
             // (1 − focus) of it on the gap between them (`RidgeBands::weighted_length`).
-            let total = bands.weighted_length(plan.beta_focus);
+            let total = bands.weighted_length(plan);
             let x1 = (gap_lo + FRAC_PI_2) / total;
             let x2 = x1 + (1.0 - plan.beta_focus) * (gap_hi - gap_lo) / total;
             Axis::clamped(
@@ -395,6 +419,28 @@ impl ThreadGeometry {
                     hi: FRAC_PI_2,
                 },
             )
+        } else if let Some((edge_lo, edge_hi)) =
+            bands.edge().filter(|_| plan.beta_edge_density > 1.0)
+        {
+            // One band reaching an end of the axis: `1 − focus` of the texels outside it,
+            // `focus` on it, split between its edge zone (at `beta_edge_density` times the
+            // density) and the rest of the band.
+            let weighted = bands.weighted_length(plan);
+            let edge_share =
+                plan.beta_focus * plan.beta_edge_density * (edge_hi - edge_lo) / weighted;
+            let outside = 1.0 - plan.beta_focus;
+            let (xs, vs) = if hi >= FRAC_PI_2 {
+                (
+                    [0.0, outside, outside + edge_share, 1.0],
+                    [-FRAC_PI_2, edge_lo, edge_hi, FRAC_PI_2],
+                )
+            } else {
+                (
+                    [0.0, plan.beta_focus - edge_share, plan.beta_focus, 1.0],
+                    [-FRAC_PI_2, edge_lo, edge_hi, FRAC_PI_2],
+                )
+            };
+            Axis::clamped(n_beta, Warp::Knots { xs, vs })
         } else {
             // The two outer parts share the remaining texels in proportion to their length.
             let (left, right) = ((lo + FRAC_PI_2).max(1e-6), (FRAC_PI_2 - hi).max(1e-6));
@@ -1076,6 +1122,47 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Velvet's thread 1 (−90° to −50°) has one band reaching βH = 90°: under split_frame's
+    /// plan its texels are denser on the zone around the band's other edge, where the
+    /// segment's end makes the curve sum change fastest.
+    #[test]
+    fn a_band_reaching_an_end_of_the_axis_is_denser_around_its_other_edge() {
+        let fabrics = crate::formats::fabric_toml::FabricSet::builtin();
+        let velvet = fabrics.get("velvet").unwrap();
+        // Thread 1, −90° to −50°: one band from 50° − 4σs up to βH = 90°.
+        let bands = RidgeBands::of(velvet, 0);
+        let (lo, hi) = bands.edge().expect("an edge zone");
+        assert_eq!(lo, bands.bands[0].0);
+        assert!((hi - lo - 7.0 * bands.sigma_s).abs() < 1e-12);
+        // A band reaching both ends, or two bands, has none.
+        assert_eq!(RidgeBands::of(velvet, 1).edge(), None);
+
+        let plan = crate::table::split_frame::PLAN;
+        let n = plan.beta_texels(velvet, 0);
+        let axis = ThreadGeometry::planned(velvet, 0, 31, n, &plan).axes[0];
+        let count = |a: f64, b: f64| {
+            (0..n)
+                .filter(|&i| (a..b).contains(&axis.texel_value(i)))
+                .count()
+        };
+        let edge_density = count(lo, hi) as f64 / (hi - lo);
+        let band_density = count(hi, FRAC_PI_2 + 1e-9) as f64 / (FRAC_PI_2 - hi);
+        let ratio = edge_density / band_density;
+        assert!((ratio - plan.beta_edge_density).abs() < 0.25, "{ratio}");
+        // Outside the band: `1 − focus` of the texels, give or take one on its edge.
+        let outside = count(-FRAC_PI_2 - 1e-9, lo) as f64 / n as f64;
+        assert!(
+            (outside - (1.0 - plan.beta_focus)).abs() < 1.5 / n as f64,
+            "{outside}"
+        );
+
+        // thread_frame's plan keeps one density on the band: its axis is as before the zone.
+        let plan = AxisPlan::THREAD_FRAME;
+        let n = plan.beta_texels(velvet, 0);
+        let axis = ThreadGeometry::planned(velvet, 0, 16, n, &plan).axes[0];
+        assert!(matches!(axis.warp, Warp::Knots { vs, .. } if vs[2] >= FRAC_PI_2 - 1e-6));
     }
 
     /// Velvet's thread 2 jumps from −55° to 55°: two bands reaching the ends of the axis,
