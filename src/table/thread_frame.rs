@@ -177,8 +177,9 @@ const THETA_WARP_K: f64 = 1.4;
 
 /// How a thread's axes are sized: βH texels per σs on the ridge band, the share of the
 /// axis the band gets and the density on a band's edge zone ([`RidgeBands::edge`]), the
-/// texels of θd', u and v per unit of resolution, and the θd' warp strength. The thread_frame layout uses [`AxisPlan::THREAD_FRAME`]; other layouts
-/// that tabulate a thread in the same coordinates choose their own.
+/// texels of θd', u and v per unit of resolution, and the θd' warp strength. The
+/// thread_frame layout uses [`AxisPlan::THREAD_FRAME`]; other layouts that tabulate a
+/// thread in the same coordinates choose their own.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AxisPlan {
     pub beta_texels_per_sigma: f64,
@@ -428,19 +429,19 @@ impl ThreadGeometry {
             let weighted = bands.weighted_length(plan);
             let edge_share =
                 plan.beta_focus * plan.beta_edge_density * (edge_hi - edge_lo) / weighted;
-            let outside = 1.0 - plan.beta_focus;
-            let (xs, vs) = if hi >= FRAC_PI_2 {
-                (
-                    [0.0, outside, outside + edge_share, 1.0],
-                    [-FRAC_PI_2, edge_lo, edge_hi, FRAC_PI_2],
-                )
+            // The zone lies between the outside and the rest of the band, in axis order.
+            let zone_start = if hi >= FRAC_PI_2 {
+                1.0 - plan.beta_focus
             } else {
-                (
-                    [0.0, plan.beta_focus - edge_share, plan.beta_focus, 1.0],
-                    [-FRAC_PI_2, edge_lo, edge_hi, FRAC_PI_2],
-                )
+                plan.beta_focus - edge_share
             };
-            Axis::clamped(n_beta, Warp::Knots { xs, vs })
+            Axis::clamped(
+                n_beta,
+                Warp::Knots {
+                    xs: [0.0, zone_start, zone_start + edge_share, 1.0],
+                    vs: [-FRAC_PI_2, edge_lo, edge_hi, FRAC_PI_2],
+                },
+            )
         } else {
             // The two outer parts share the remaining texels in proportion to their length.
             let (left, right) = ((lo + FRAC_PI_2).max(1e-6), (FRAC_PI_2 - hi).max(1e-6));
