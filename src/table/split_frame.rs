@@ -78,9 +78,8 @@ use std::sync::Arc;
 /// The axes of the sloped tables (see the module doc). Measured on the six fabrics: βH
 /// needs fewer texels once the point masses' sharp ridges are gone (3 → 1.2 per σs lost
 /// nothing), and u more (doubling it from thread_frame's 0.29R took velvet from 2.7% to
-/// 1.9%). The edge zone at 1.5 times the density is where velvet's image error came from:
-/// the standard scene at 256² read 0.51% at 31, 33 and 48 alike, and 0.39% with the zone,
-/// for 12% more texels (docs/tables.md#what-was-tried).
+/// 1.9%). The edge zone at 1.5 times the density is what velvet's image error needed
+/// (docs/tables.md#what-was-tried).
 pub const PLAN: AxisPlan = AxisPlan {
     beta_texels_per_sigma: 1.2,
     beta_focus: 0.7,

@@ -333,10 +333,12 @@ impl RidgeBands {
     /// reaches βH = 90°), the zone around its other edge: from that edge 7σs into the band.
     /// The band starts 4σs before the segment's end, so the zone holds the end's smoothed
     /// step, −4σs to +3σs about it, where the curve sum changes fastest along βH; inside
-    /// the segment it varies slowly. None where the band is no longer than the zone.
-    fn edge(&self) -> Option<(f64, f64)> {
+    /// the segment it varies slowly. None where the band is no longer than the zone, or
+    /// where `plan` gives the zone no extra density.
+    fn edge(&self, plan: &AxisPlan) -> Option<(f64, f64)> {
         let width = 7.0 * self.sigma_s;
         match self.bands[..] {
+            _ if plan.beta_edge_density <= 1.0 => None,
             [(lo, hi)] if hi - lo <= width => None,
             [(lo, hi)] if hi >= FRAC_PI_2 && lo > -FRAC_PI_2 => Some((lo, lo + width)),
             [(lo, hi)] if lo <= -FRAC_PI_2 && hi < FRAC_PI_2 => Some((hi - width, hi)),
@@ -350,10 +352,7 @@ impl RidgeBands {
     /// rest outside.
     fn weighted_length(&self, plan: &AxisPlan) -> f64 {
         let gap = self.gap().map_or(0.0, |(lo, hi)| hi - lo);
-        let edge = self
-            .edge()
-            .filter(|_| plan.beta_edge_density > 1.0)
-            .map_or(0.0, |(lo, hi)| hi - lo);
+        let edge = self.edge(plan).map_or(0.0, |(lo, hi)| hi - lo);
         self.length() + (1.0 - plan.beta_focus) * gap + (plan.beta_edge_density - 1.0) * edge
     }
 
@@ -420,9 +419,7 @@ impl ThreadGeometry {
                     hi: FRAC_PI_2,
                 },
             )
-        } else if let Some((edge_lo, edge_hi)) =
-            bands.edge().filter(|_| plan.beta_edge_density > 1.0)
-        {
+        } else if let Some((edge_lo, edge_hi)) = bands.edge(plan) {
             // One band reaching an end of the axis: `1 − focus` of the texels outside it,
             // `focus` on it, split between its edge zone (at `beta_edge_density` times the
             // density) and the rest of the band.
@@ -1133,14 +1130,14 @@ mod tests {
         let fabrics = crate::formats::fabric_toml::FabricSet::builtin();
         let velvet = fabrics.get("velvet").unwrap();
         // Thread 1, −90° to −50°: one band from 50° − 4σs up to βH = 90°.
+        let plan = crate::table::split_frame::PLAN;
         let bands = RidgeBands::of(velvet, 0);
-        let (lo, hi) = bands.edge().expect("an edge zone");
+        let (lo, hi) = bands.edge(&plan).expect("an edge zone");
         assert_eq!(lo, bands.bands[0].0);
         assert!((hi - lo - 7.0 * bands.sigma_s).abs() < 1e-12);
         // A band reaching both ends, or two bands, has none.
-        assert_eq!(RidgeBands::of(velvet, 1).edge(), None);
+        assert_eq!(RidgeBands::of(velvet, 1).edge(&plan), None);
 
-        let plan = crate::table::split_frame::PLAN;
         let n = plan.beta_texels(velvet, 0);
         let axis = ThreadGeometry::planned(velvet, 0, 31, n, &plan).axes[0];
         let count = |a: f64, b: f64| {
