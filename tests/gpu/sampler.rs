@@ -22,7 +22,7 @@ const ALPHA: f64 = 0.01;
 /// Largest relative difference of the GPU's density from the CPU's away from cell edges:
 /// f32 CDF differences are exact on both sides, so what is left is f32 rounding in the
 /// bilinear weights and the cell's solid angle, whose z_{r+1} − z_r cancels next to the
-/// normal: sin's ~6e-8 over 1 − cos(90°/32) ≈ 1.2e-3 is 5e-5 (measured 6.2e-5 on
+/// normal: sin's ~6e-8 over 1 − cos(90°/32) ≈ 1.2e-3 is 5e-5 (measured 6.0e-5 on
 /// lavapipe).
 const PDF_RELATIVE: f64 = 1e-4;
 

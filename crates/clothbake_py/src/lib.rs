@@ -103,6 +103,7 @@ fn three_columns(name: &str, shape: &[usize]) -> PyResult<()> {
     columns(name, shape, 3)
 }
 
+/// Refuses an array `name` whose shape is not (N, `count`).
 fn columns(name: &str, shape: &[usize], count: usize) -> PyResult<()> {
     if shape.len() == 2 && shape[1] == count {
         Ok(())
