@@ -1,10 +1,8 @@
 // Compute entry points over the fabric sampler (shaders/sampling/fabric_sampler.wgsl), one
 // invocation per pair, with the buffers of `clothbake::gpu::run_pairs` (as
 // gpu/eval_pairs.wgsl): `sample_draws_main` reads (wo, u) and writes (wi, pdf) as
-// `sampling_sample`; `sample_pdf_main` reads (wo, wi) and writes (pdf, 0, 0, 0);
-// `sample_footprint_main` reads (wo, (u1, u2, h)) and writes `sampling_footprint_half` of the
-// draw as one of 16 net points (xyz its centre, w its solid angle). For tests and
-// measurements (src/gpu/sampler.rs).
+// `sampling_sample`; `sample_pdf_main` reads (wo, wi) and writes (pdf, 0, 0, 0). For tests
+// and measurements (src/gpu/sampler.rs).
 //
 // requires: sampling/fabric_sampler
 
@@ -18,18 +16,7 @@ fn sample_draws_main(@builtin(global_invocation_id) id: vec3<u32>) {
     if k >= arrayLength(&eval_results) {
         return;
     }
-    eval_results[k] = sampling_sample(eval_pairs[2u * k].xyz, eval_pairs[2u * k + 1u].xy).direction;
-}
-
-@compute @workgroup_size(64)
-fn sample_footprint_main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let k = id.x;
-    if k >= arrayLength(&eval_results) {
-        return;
-    }
-    let request = eval_pairs[2u * k + 1u].xyz;
-    let draw = sampling_sample(eval_pairs[2u * k].xyz, request.xy);
-    eval_results[k] = sampling_footprint_half(draw, 16u, u32(request.z));
+    eval_results[k] = sampling_sample(eval_pairs[2u * k].xyz, eval_pairs[2u * k + 1u].xyz);
 }
 
 @compute @workgroup_size(64)

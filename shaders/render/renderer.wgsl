@@ -144,39 +144,32 @@ fn render_environment_uv(world: vec3<f32>, turn: vec2<f32>) -> vec2<f32> {
 }
 
 // ∫ L_env(wi) F(wi, wo) dwi by filtered importance sampling (Colbert and Křivánek, GPU Gems
-// 3, ch. 20): K directions from the fabric's sampler, one 2D net shared by every pixel (the
-// error is a smooth bias, not noise; the draws tile F's mass in cells of equal
-// probability), each weighted by F/pdf. The part of the sphere a draw stands for,
-// Ωs = 1/(K·pdf), is a thin box along the lobe's ring; it is read in two halves along its
-// longer side (`sampling_footprint_half`), each from the mip level whose texels cover it:
-// lod = ½·log2(Ωs/(2·Ωp)) (`sampling_lod`), Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the
-// half's polar angle θ.
+// 3, ch. 20): K directions from the fabric's sampler, one Hammersley set shared by every
+// pixel (the error is a smooth bias, not noise), each weighted by F/pdf and read from the
+// mip level whose texels cover the solid angle the sample stands for, Ωs = 1/(K·pdf):
+// lod = ½·log2(Ωs/Ωp) (`sampling_lod`), Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the
+// sample's polar angle θ.
 fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
     let turn = render_environment_turn();
     let count = render_frame.counts.y;
     let size = render_frame.environment;
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < count; k++) {
-        let draw = sampling_sample(wo, sampling_net_point(k, count));
-        let pdf = draw.direction.w;
-        if pdf <= 0.0 {
+        let s = sampling_sample(wo, sampling_hammersley(k, count));
+        if s.w <= 0.0 {
             continue;
         }
-        var radiance = vec3<f32>(0.0);
-        for (var h = 0u; h < 2u; h++) {
-            let part = sampling_footprint_half(draw, count, h);
-            let world = f.t * part.x + f.b * part.y + f.n * part.z;
-            let sin_theta = sqrt(max(1.0 - world.y * world.y, 1e-8));
-            let texel = (6.2831853 / size.x) * (3.14159265 / size.y) * sin_theta;
-            let lod = clamp(sampling_lod(part.w, texel), 0.0, size.z - 1.0);
-            radiance += textureSampleLevel(
-                render_environment,
-                render_environment_sampler,
-                render_environment_uv(world, turn),
-                lod,
-            ).rgb;
-        }
-        sum += 0.5 * radiance * cloth_brdf(draw.direction.xyz, wo) / pdf;
+        let world = f.t * s.x + f.b * s.y + f.n * s.z;
+        let sin_theta = sqrt(max(1.0 - world.y * world.y, 1e-8));
+        let texel = (6.2831853 / size.x) * (3.14159265 / size.y) * sin_theta;
+        let lod = clamp(sampling_lod(count, s.w, texel), 0.0, size.z - 1.0);
+        let radiance = textureSampleLevel(
+            render_environment,
+            render_environment_sampler,
+            render_environment_uv(world, turn),
+            lod,
+        ).rgb;
+        sum += radiance * cloth_brdf(s.xyz, wo) / s.w;
     }
     return sum / f32(max(count, 1u));
 }

@@ -31,7 +31,6 @@ fn sampling_elevation(w: vec3<f32>) -> f32 {
     return atan2(w.z, length(w.xy));
 }
 
-// The direction at height z (sin of the elevation; negative below the horizon) and azimuth.
 fn sampling_direction_at_z(z: f32, azimuth: f32) -> vec3<f32> {
     let r = sqrt(max(1.0 - z * z, 0.0));
     return vec3<f32>(r * cos(azimuth), r * sin(azimuth), z);
@@ -60,168 +59,119 @@ fn sampling_nodes(wo: vec3<f32>) -> SamplingNodes {
     );
 }
 
+// The interval k of the CDF of n + 1 values at sampling_data[base..] holding u, and u
+// rescaled into it (x: k, y: the rescaled u).
+struct SamplingPick {
+    index: u32,
+    rescaled: f32,
+}
+
+fn sampling_invert(base: u32, n: u32, u: f32) -> SamplingPick {
+    // First k with cdf[k + 1] > u (binary search), as the CPU's partition_point.
+    var lo = 0u;
+    var hi = n - 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if sampling_data[base + mid + 1u] <= u {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let c0 = sampling_data[base + lo];
+    let c1 = sampling_data[base + lo + 1u];
+    let rescaled = select(0.0, (u - c0) / (c1 - c0), c1 > c0);
+    return SamplingPick(lo, clamp(rescaled, 0.0, 0.99999994));
+}
+
 fn sampling_column_base(node: u32, r: u32) -> u32 {
     return node * SAMPLING_NODE_STRIDE + SAMPLING_ROWS + 1u + r * (SAMPLING_COLUMNS + 1u);
 }
 
-// The cosine density's probability of row r, z_{r+1}² − z_r².
-fn sampling_cosine_row(r: u32) -> f32 {
-    let z0 = sampling_row_z(r);
-    let z1 = sampling_row_z(r + 1u);
-    return (z1 - z0) * (z1 + z0);
-}
-
-// The solid angle of one cell of row r.
-fn sampling_cell_solid_angle(r: u32) -> f32 {
-    return (sampling_row_z(r + 1u) - sampling_row_z(r)) * (SAMPLING_TAU / f32(SAMPLING_COLUMNS));
-}
-
-// Each node's probability of row r (a difference of stored neighbours).
-fn sampling_row_masses(nodes: SamplingNodes, r: u32) -> vec4<f32> {
-    var masses = vec4<f32>(0.0);
-    for (var k = 0u; k < 4u; k++) {
-        let rows = nodes.index[k] * SAMPLING_NODE_STRIDE;
-        masses[k] = sampling_data[rows + r + 1u] - sampling_data[rows + r];
-    }
-    return masses;
-}
-
-// The mixture's probability of the rows below r (`Sampler::mixture_rows_below`).
-fn sampling_rows_below(nodes: SamplingNodes, r: u32) -> f32 {
+// The density at wi (wi.z > 0) of the mixture of `nodes` (one wo's bilinear weights): wi's
+// cell and its solid angle are the same in every node, so they are found once.
+fn sampling_mixture_pdf(nodes: SamplingNodes, wi: vec3<f32>) -> f32 {
+    let r = min(u32(sampling_elevation(wi) / SAMPLING_HALF_PI * f32(SAMPLING_ROWS)), SAMPLING_ROWS - 1u);
+    let c = min(u32(sampling_azimuth(wi) / SAMPLING_TAU * f32(SAMPLING_COLUMNS)), SAMPLING_COLUMNS - 1u);
     var table = 0.0;
     for (var k = 0u; k < 4u; k++) {
-        table += nodes.weight[k] * sampling_data[nodes.index[k] * SAMPLING_NODE_STRIDE + r];
+        if nodes.weight[k] > 0.0 {
+            let rows = nodes.index[k] * SAMPLING_NODE_STRIDE;
+            let columns = sampling_column_base(nodes.index[k], r);
+            table += nodes.weight[k]
+                * (sampling_data[rows + r + 1u] - sampling_data[rows + r])
+                * (sampling_data[columns + c + 1u] - sampling_data[columns + c]);
+        }
     }
-    let z = sampling_row_z(r);
-    return (1.0 - SAMPLING_COSINE_SHARE) * table + SAMPLING_COSINE_SHARE * z * z;
+    let solid_angle = (sampling_row_z(r + 1u) - sampling_row_z(r)) * (SAMPLING_TAU / f32(SAMPLING_COLUMNS));
+    return SAMPLING_COSINE_SHARE * wi.z / SAMPLING_PI + (1.0 - SAMPLING_COSINE_SHARE) * table / solid_angle;
 }
 
-// The mixture's probability of the cells of row r left of column c, given the nodes' row
-// masses (`Sampler::mixture_columns_left`).
-fn sampling_columns_left(nodes: SamplingNodes, masses: vec4<f32>, r: u32, c: u32) -> f32 {
-    var table = 0.0;
-    for (var k = 0u; k < 4u; k++) {
-        table += nodes.weight[k] * masses[k] * sampling_data[sampling_column_base(nodes.index[k], r) + c];
-    }
-    return (1.0 - SAMPLING_COSINE_SHARE) * table
-        + SAMPLING_COSINE_SHARE * sampling_cosine_row(r) * f32(c) / f32(SAMPLING_COLUMNS);
-}
-
-// The mixture's probability of cell (r, c) (`Sampler::mixture_cell_probability`): each
-// node's cell probability as differences of stored neighbours, and the cosine share's mass.
-fn sampling_cell_probability(nodes: SamplingNodes, r: u32, c: u32) -> f32 {
-    var table = 0.0;
-    for (var k = 0u; k < 4u; k++) {
-        let rows = nodes.index[k] * SAMPLING_NODE_STRIDE;
-        let columns = sampling_column_base(nodes.index[k], r);
-        table += nodes.weight[k]
-            * (sampling_data[rows + r + 1u] - sampling_data[rows + r])
-            * (sampling_data[columns + c + 1u] - sampling_data[columns + c]);
-    }
-    return (1.0 - SAMPLING_COSINE_SHARE) * table
-        + SAMPLING_COSINE_SHARE * sampling_cosine_row(r) / f32(SAMPLING_COLUMNS);
-}
-
-// pdf(wi | wo) per unit solid angle, constant over each cell; 0 unless both are above the
-// horizon.
+// pdf(wi | wo) per unit solid angle; 0 unless both are above the horizon.
 fn sampling_pdf(wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return 0.0;
     }
-    let r = min(u32(sampling_elevation(wi) / SAMPLING_HALF_PI * f32(SAMPLING_ROWS)), SAMPLING_ROWS - 1u);
-    let c = min(u32(sampling_azimuth(wi) / SAMPLING_TAU * f32(SAMPLING_COLUMNS)), SAMPLING_COLUMNS - 1u);
-    return sampling_cell_probability(sampling_nodes(wo), r, c) / sampling_cell_solid_angle(r);
+    return sampling_mixture_pdf(sampling_nodes(wo), wi);
 }
 
-// A draw: direction.xyz = wi, direction.w = pdf(wi | wo) (0 marks a rejected draw: wo or
-// the draw on or below the horizon); derivatives = (∂z/∂u1, ∂φ/∂u2) inside the drawn cell,
-// as `clothbake::sampling::Sample`.
-struct SamplingDraw {
-    direction: vec4<f32>,
-    derivatives: vec2<f32>,
-}
-
-// A direction for wo from two uniform numbers in [0, 1) (`Sampler::sample`): the four nodes'
-// bilinear mixture and the cosine share inverted as one CDF, u.x the row and z inside it,
-// u.y the column and the azimuth inside it.
-fn sampling_sample(wo: vec3<f32>, u: vec2<f32>) -> SamplingDraw {
-    var draw = SamplingDraw(vec4<f32>(0.0), vec2<f32>(0.0));
+// A direction for wo from three uniform numbers in [0, 1): xyz = wi, w = pdf(wi | wo); w = 0
+// marks a rejected draw (wo or the draw on or below the horizon).
+fn sampling_sample(wo: vec3<f32>, u: vec3<f32>) -> vec4<f32> {
     if wo.z <= 0.0 {
-        return draw;
+        return vec4<f32>(0.0);
     }
     let nodes = sampling_nodes(wo);
-    var lo = 0u;
-    var hi = SAMPLING_ROWS - 1u;
-    while lo < hi {
-        let mid = (lo + hi) / 2u;
-        if sampling_rows_below(nodes, mid + 1u) <= u.x {
-            lo = mid + 1u;
-        } else {
-            hi = mid;
+    var wi: vec3<f32>;
+    if u.z < SAMPLING_COSINE_SHARE {
+        wi = sampling_direction_at_z(sqrt(1.0 - u.x), u.y * SAMPLING_TAU);
+    } else {
+        var pick = (u.z - SAMPLING_COSINE_SHARE) / (1.0 - SAMPLING_COSINE_SHARE);
+        var chosen = nodes.index.x;
+        for (var k = 0u; k < 4u; k++) {
+            if nodes.weight[k] > 0.0 {
+                chosen = nodes.index[k];
+                if pick < nodes.weight[k] {
+                    break;
+                }
+                pick -= nodes.weight[k];
+            }
         }
+        let row = sampling_invert(chosen * SAMPLING_NODE_STRIDE, SAMPLING_ROWS, u.x);
+        let column = sampling_invert(sampling_column_base(chosen, row.index), SAMPLING_COLUMNS, u.y);
+        let z0 = sampling_row_z(row.index);
+        let z = z0 + row.rescaled * (sampling_row_z(row.index + 1u) - z0);
+        wi = sampling_direction_at_z(z, (f32(column.index) + column.rescaled) * (SAMPLING_TAU / f32(SAMPLING_COLUMNS)));
     }
-    let r = lo;
-    let below = sampling_rows_below(nodes, r);
-    let ur = clamp((u.x - below) / (sampling_rows_below(nodes, r + 1u) - below), 0.0, 0.99999994);
-    let masses = sampling_row_masses(nodes, r);
-    let row_p = (1.0 - SAMPLING_COSINE_SHARE) * dot(nodes.weight, masses)
-        + SAMPLING_COSINE_SHARE * sampling_cosine_row(r);
-    // The column against u2 scaled to the row's probability (its partial sums' total:
-    // each node's column CDF ends at exactly 1).
-    let target_p = u.y * row_p;
-    lo = 0u;
-    hi = SAMPLING_COLUMNS - 1u;
-    while lo < hi {
-        let mid = (lo + hi) / 2u;
-        if sampling_columns_left(nodes, masses, r, mid + 1u) <= target_p {
-            lo = mid + 1u;
-        } else {
-            hi = mid;
-        }
+    if wi.z <= 0.0 {
+        return vec4<f32>(0.0);
     }
-    let c = lo;
-    let left = sampling_columns_left(nodes, masses, r, c);
-    let uc = clamp((target_p - left) / (sampling_columns_left(nodes, masses, r, c + 1u) - left), 0.0, 0.99999994);
-    let cell_p = sampling_cell_probability(nodes, r, c);
-    let z0 = sampling_row_z(r);
-    let height = sampling_row_z(r + 1u) - z0;
-    let wi = sampling_direction_at_z(z0 + ur * height, (f32(c) + uc) * (SAMPLING_TAU / f32(SAMPLING_COLUMNS)));
-    if wi.z <= 0.0 || cell_p <= 0.0 {
-        return draw;
+    let pdf = sampling_mixture_pdf(nodes, wi);
+    if pdf <= 0.0 {
+        return vec4<f32>(0.0);
     }
-    draw.direction = vec4<f32>(wi, cell_p / sampling_cell_solid_angle(r));
-    draw.derivatives = vec2<f32>(height / row_p, (SAMPLING_TAU / f32(SAMPLING_COLUMNS)) * row_p / cell_p);
-    return draw;
+    return vec4<f32>(wi, pdf);
 }
 
-// Point k of the K-point 2D Hammersley set ((k + ½)/K, the base-2 radical inverse of k plus
-// half its step), as `clothbake::sampling::net_point`.
-fn sampling_net_point(k: u32, count: u32) -> vec2<f32> {
-    let bits = 32u - countLeadingZeros(max(count, 2u) - 1u);
-    let step = exp2(-f32(bits));
-    return vec2<f32>((f32(k) + 0.5) / f32(count), f32(reverseBits(k)) * 2.3283064e-10 + 0.5 * step);
-}
-
-// Half h (0 or 1) of the part of the sphere that a draw of a K-point net stands for: xyz its
-// centre (unit, local frame; may lie below the horizon), w its solid angle
-// (`clothbake::sampling::Sample::footprint_half`, which derives it).
-fn sampling_footprint_half(draw: SamplingDraw, count: u32, h: u32) -> vec4<f32> {
-    let extent = min(inverseSqrt(f32(max(count, 1u))) * draw.derivatives, vec2<f32>(2.0, SAMPLING_TAU));
-    let wi = draw.direction.xyz;
-    let cos_elevation = max(length(wi.xy), 1e-3);
-    let sign = f32(h) - 0.5;
-    var offset = vec2<f32>(0.0, 0.5 * sign * extent.y);
-    if extent.x / cos_elevation > extent.y * cos_elevation {
-        offset = vec2<f32>(0.5 * sign * extent.x, 0.0);
+// Point k of the K-point Hammersley set (the u of `sampling_sample` for K draws shared by
+// every pixel): ((k + ½)/K, base-2 and base-3 radical inverses of
+// k), as `clothbake::sampling::hammersley`.
+fn sampling_hammersley(k: u32, count: u32) -> vec3<f32> {
+    var base3 = 0.0;
+    var scale = 1.0 / 3.0;
+    for (var i = k; i > 0u; i = i / 3u) {
+        base3 += f32(i % 3u) * scale;
+        scale /= 3.0;
     }
-    let z = clamp(wi.z + offset.x, -1.0, 1.0);
-    let azimuth = atan2(wi.y, wi.x) + offset.y;
-    return vec4<f32>(sampling_direction_at_z(z, azimuth), 0.5 * extent.x * extent.y);
+    return vec3<f32>((f32(k) + 0.5) / f32(count), f32(reverseBits(k)) * 2.3283064e-10, base3);
 }
 
-// Filtered importance sampling's mip level (Colbert and Křivánek, GPU Gems 3, ch. 20): the
-// level whose texels cover `solid_angle` (a draw's share of the sphere, or half of it), ½·log2(solid_angle/texel) for a level-0 texel of `texel` steradians; the caller
-// clamps it to the map's levels.
-fn sampling_lod(solid_angle: f32, texel: f32) -> f32 {
-    return 0.5 * log2(solid_angle / texel);
+// Filtered importance sampling's mip level (Colbert and Křivánek, GPU Gems 3, ch. 20) for one
+// of `count` draws of density `pdf` from a map whose level-0 texel spans `texel` steradians:
+// the level whose texels cover the draw's share of the sphere, 1/(count·pdf), i.e.
+// ½·log2(1/(count·pdf·texel)); the caller clamps it to the map's levels. Without the
+// original's +1: measured against the CPU reference (docs/sampling.md#what-was-tried), +1 blurs
+// cloth's narrow cone-shaped lobes too much, and −1 or −2 alias.
+fn sampling_lod(count: u32, pdf: f32, texel: f32) -> f32 {
+    return 0.5 * log2(1.0 / (f32(count) * pdf * texel));
 }

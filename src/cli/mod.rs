@@ -39,7 +39,7 @@ enum Command {
     Fabrics(fabrics::Args),
     /// Evaluate F(wi, wo): JSON lines {"wi":[x,y,z],"wo":[x,y,z]} on stdin, {"f":[r,g,b]} out.
     Eval(eval::Args),
-    /// Importance-sample F: JSON lines {"wo":[x,y,z],"u":[u1,u2]} (u in [0, 1)) on stdin,
+    /// Importance-sample F: JSON lines {"wo":[x,y,z],"u":[u1,u2,u3]} (u in [0, 1)) on stdin,
     /// {"wi":[x,y,z],"pdf":p,"weight":[r,g,b]} out (weight = F/pdf; "wi":null when rejected).
     Sample(sample::Args),
     /// Print each fabric's directional albedo ∫F dwi over outgoing elevation, and its maximum.

@@ -3,7 +3,7 @@
 //!
 //! - `eval`: `{"wi":[x,y,z],"wo":[x,y,z]}` (the patch frame of docs/model.md#frames-and-directions,
 //!   normalised here) → `{"f":[r,g,b]}`, plus `"table"` and `"pdf"` when asked for.
-//! - `sample`: `{"wo":[x,y,z],"u":[u1,u2]}` (u in [0, 1)) →
+//! - `sample`: `{"wo":[x,y,z],"u":[u1,u2,u3]}` (u in [0, 1)) →
 //!   `{"wi":[x,y,z],"pdf":p,"weight":[r,g,b]}`, `"wi":null` when the draw is rejected.
 //!
 //! Input is read on its own thread into a bounded queue; whatever lines are waiting (up to
@@ -46,7 +46,7 @@ pub struct EvalOutput {
 #[serde(deny_unknown_fields)]
 struct SampleRequest {
     wo: [f64; 3],
-    u: [f64; 2],
+    u: [f64; 3],
 }
 
 /// One output line of `sample`: the drawn direction, its density and F/pdf; a rejected
@@ -67,10 +67,10 @@ impl SampleOutput {
     };
 }
 
-/// Parses one `sample` line into a unit `wo` and two uniform numbers, each in [0, 1).
-pub fn parse_sample_line(text: &str) -> Result<(DVec3, [f64; 2]), String> {
+/// Parses one `sample` line into a unit `wo` and three uniform numbers, each in [0, 1).
+pub fn parse_sample_line(text: &str) -> Result<(DVec3, [f64; 3]), String> {
     let request: SampleRequest = serde_json::from_str(text)
-        .map_err(|e| format!("expected {{\"wo\":[x,y,z],\"u\":[u1,u2]}}: {e}"))?;
+        .map_err(|e| format!("expected {{\"wo\":[x,y,z],\"u\":[u1,u2,u3]}}: {e}"))?;
     for (k, u) in request.u.iter().enumerate() {
         if !(0.0..1.0).contains(u) {
             return Err(format!("u[{k}] = {u} is not in [0, 1)"));
@@ -162,7 +162,7 @@ pub fn sample_stream<R, W, D>(input: R, output: W, draw: D) -> Result<u64, EvalS
 where
     R: BufRead + Send + 'static,
     W: Write,
-    D: Fn(DVec3, [f64; 2]) -> SampleOutput + Sync,
+    D: Fn(DVec3, [f64; 3]) -> SampleOutput + Sync,
 {
     json_lines(input, output, parse_sample_line, |(wo, u)| draw(wo, u))
 }

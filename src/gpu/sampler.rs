@@ -95,16 +95,6 @@ impl GpuSampler {
         self.run(context, "sample_draws_main", requests)
     }
 
-    /// `sampling_footprint_half(sampling_sample(wo, u.xy), 16, u.z)` for each `(wo, u)`:
-    /// (centre, solid angle) of half u.z of the draw's footprint as one of 16 net points.
-    pub fn footprint(
-        &self,
-        context: &GpuContext,
-        requests: &[(Vec3, Vec3)],
-    ) -> Result<Vec<[f32; 4]>, GpuError> {
-        self.run(context, "sample_footprint_main", requests)
-    }
-
     /// `sampling_pdf(wo, wi)` for each `(wo, wi)`.
     pub fn pdf(&self, context: &GpuContext, pairs: &[(Vec3, Vec3)]) -> Result<Vec<f32>, GpuError> {
         Ok(self

@@ -97,7 +97,7 @@ pub fn shade_with(
                     let u = [0, 1, 2].map(|c| (u[c] + shift[c]).fract());
                     // Balance heuristic, one draw of each technique: each contributes
                     // L·F/(p_fabric + p_map) at its own direction.
-                    if let Some(s) = env.sampler.sample(wo, [u[0], u[1]]) {
+                    if let Some(s) = env.sampler.sample(wo, u) {
                         let map = turn.inverse() * (t * s.wi.x + b * s.wi.y + n * s.wi.z);
                         let p = s.pdf + distribution.pdf(map);
                         light += residual.radiance(map, 0.0) * brdf(s.wi, wo) / p;

@@ -31,16 +31,12 @@
 //!   (R + 1 values, 0 first, exactly 1 last), then per row the conditional CDF over columns
 //!   (C + 1 values each). Probabilities are differences of stored neighbours, in sampling and
 //!   in the pdf alike, so the f32 rounding of the CDFs cannot make them disagree.
-//! - **A cosine share.** A share [`COSINE_SHARE`] of the probability is the cosine density
-//!   cos θ/π's mass per cell: every cell above the horizon keeps a density of at least
-//!   COSINE_SHARE·(z_r + z_{r+1})/2π, so a lobe the cell's two points missed costs
-//!   variance, never bias.
+//! - **A cosine share.** With probability [`COSINE_SHARE`] wi is drawn from the cosine
+//!   density cos θ/π instead: every direction above the horizon keeps a density of at least
+//!   COSINE_SHARE·cos θ/π, so a lobe the cell's two points missed costs variance, never bias.
 //!
-//! The two uniform numbers invert the mixture (the four nodes' bilinear blend and the cosine
-//! share, one piecewise-constant density) as one CDF: u1 the row by the blended marginal and
-//! then z inside it, u2 the column by the row's blended conditional and then the azimuth
-//! inside it. A draw is continuous in wo, and a stratified (u1, u2) set stays stratified:
-//! the environment light relies on it ([`net_point`]).
+//! The three uniform numbers: u3 picks cosine or table, then (rescaled) the node; u1 the row
+//! and then z inside it; u2 the column and then the azimuth inside it.
 
 pub mod environment;
 
@@ -49,7 +45,7 @@ pub use environment::{EnvironmentSampler, SAMPLER_MAX_WIDTH};
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use glam::DVec3;
 use rayon::prelude::*;
-use std::f64::consts::{FRAC_PI_2, TAU};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Elevation nodes over wo (0° to 90°).
 pub const ELEVATION_NODES: usize = 17;
@@ -82,46 +78,6 @@ pub struct Sample {
     pub wi: DVec3,
     /// `pdf(wi | wo)` per unit solid angle.
     pub pdf: f64,
-    /// ∂z/∂u1 at the draw (z = wi.z): inside a cell z is linear in u1.
-    pub dz_du1: f64,
-    /// ∂φ/∂u2 at the draw (φ the azimuth of wi, radians): inside a cell φ is linear in u2.
-    /// With `dz_du1` it maps a small box of (u1, u2) around the draw to the directions it
-    /// stands for (solid angle dz·dφ): `dz_du1 · dazimuth_du2 = 1/pdf`.
-    pub dazimuth_du2: f64,
-}
-
-impl Sample {
-    /// Half `h` (0 or 1) of the part of the sphere this draw stands for as one of `count`
-    /// points of [`net_point`]'s net, for filtered importance sampling: its centre (unit, in
-    /// the patch frame; it may lie below the horizon) and its solid angle.
-    ///
-    /// A net point owns a box of the unit square of side about 1/√K. Inside the drawn cell z
-    /// is linear in u1 and the azimuth φ in u2, so the box maps to a box of sides
-    /// (∂z/∂u1, ∂φ/∂u2)/√K around the draw (at most the whole sphere), of solid angle
-    /// dz·dφ = 1/(K·pdf). In arc length its side along z spans dz/cos(elevation) and its
-    /// side along φ spans dφ·cos(elevation); the box is cut in two across the longer one,
-    /// and each half is read at its centre at its own level of detail. A cloth lobe is a
-    /// thin ring, and so are the boxes of its draws: one isotropic footprint the size of a
-    /// box blurs across the ring, two along it do not.
-    pub fn footprint_half(&self, count: u32, h: u32) -> (DVec3, f64) {
-        let side = 1.0 / (count.max(1) as f64).sqrt();
-        let extent_z = (side * self.dz_du1).min(2.0);
-        let extent_azimuth = (side * self.dazimuth_du2).min(TAU);
-        let cos_elevation = self.wi.x.hypot(self.wi.y).max(1e-3);
-        let sign = h as f64 - 0.5;
-        let (dz, dazimuth) = if extent_z / cos_elevation > extent_azimuth * cos_elevation {
-            (0.5 * sign * extent_z, 0.0)
-        } else {
-            (0.0, 0.5 * sign * extent_azimuth)
-        };
-        let z = (self.wi.z + dz).clamp(-1.0, 1.0);
-        let azimuth = self.wi.y.atan2(self.wi.x) + dazimuth;
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        (
-            DVec3::new(r * azimuth.cos(), r * azimuth.sin(), z),
-            0.5 * extent_z * extent_azimuth,
-        )
-    }
 }
 
 /// The tabulated sampler of one fabric (see the module doc for the layout).
@@ -133,17 +89,6 @@ pub struct Sampler {
 /// z = sin(elevation) at the lower edge of row `r` (r = ROWS: the normal).
 fn row_z(r: usize) -> f64 {
     (r as f64 * FRAC_PI_2 / ROWS as f64).sin()
-}
-
-/// The cosine density's probability of row `r`: ∫ cos θ/π over the band, z_{r+1}² − z_r²
-/// (z² is uniform under it, Malley's method).
-fn cosine_row_probability(r: usize) -> f64 {
-    row_z(r + 1).powi(2) - row_z(r).powi(2)
-}
-
-/// The solid angle of one cell of row `r`: (z_{r+1} − z_r)·2π/C.
-fn cell_solid_angle(r: usize) -> f64 {
-    (row_z(r + 1) - row_z(r)) * (TAU / COLUMNS as f64)
 }
 
 /// The unit direction of elevation `elevation` and azimuth `azimuth` (radians).
@@ -199,22 +144,6 @@ pub(crate) fn invert_cdf(cdf: &[f32], u: f64) -> (usize, f64) {
     let (lo, hi) = (cdf[k] as f64, cdf[k + 1] as f64);
     let rescaled = if hi > lo { (u - lo) / (hi - lo) } else { 0.0 };
     (k, rescaled.clamp(0.0, 1.0 - f64::EPSILON / 2.0))
-}
-
-/// The interval k in 0..n of a non-decreasing `cumulative` (cumulative(0) = 0, cumulative(n)
-/// the total) holding `target`: the first k with cumulative(k + 1) > target, by bisection,
-/// n − 1 when none is.
-fn first_exceeding(n: usize, target: f64, cumulative: impl Fn(usize) -> f64) -> usize {
-    let (mut lo, mut hi) = (0, n - 1);
-    while lo < hi {
-        let mid = (lo + hi) / 2;
-        if cumulative(mid + 1) <= target {
-            lo = mid + 1;
-        } else {
-            hi = mid;
-        }
-    }
-    lo
 }
 
 /// The elevation (radians) of row `i` of `rows` on the grids over wo (the sampler's nodes,
@@ -367,118 +296,68 @@ impl Sampler {
         (rows[r + 1] as f64 - rows[r] as f64) * (columns[c + 1] as f64 - columns[c] as f64)
     }
 
-    /// The mixture's probability of the rows below `r` (its marginal CDF over rows at r):
-    /// the nodes' stored CDFs blended by `nodes` (one wo's bilinear weights), and the cosine
-    /// share's z_r².
-    fn mixture_rows_below(&self, nodes: &[(usize, f64); 4], r: usize) -> f64 {
+    /// The density at `wi` (w.z > 0) of the mixture of `nodes` (one wo's bilinear weights):
+    /// wi's cell and its solid angle are the same in every node, so they are found once.
+    fn mixture_pdf(&self, nodes: &[(usize, f64); 4], wi: DVec3) -> f64 {
+        let r = ((elevation_of(wi) / FRAC_PI_2 * ROWS as f64) as usize).min(ROWS - 1);
+        let c = ((azimuth_of(wi) / TAU * COLUMNS as f64) as usize).min(COLUMNS - 1);
+        let solid_angle = (row_z(r + 1) - row_z(r)) * (TAU / COLUMNS as f64);
         let table: f64 = nodes
             .iter()
-            .map(|&(n, w)| w * Self::row_cdf(self.node(n))[r] as f64)
-            .sum();
-        (1.0 - COSINE_SHARE) * table + COSINE_SHARE * row_z(r).powi(2)
-    }
-
-    /// The mixture's probability of row `r`, from each node's difference of stored
-    /// neighbours (as [`Self::mixture_cell_probability`], so that a small row keeps its
-    /// relative precision in f32 as well).
-    fn mixture_row_probability(&self, nodes: &[(usize, f64); 4], r: usize) -> f64 {
-        let table: f64 = nodes
-            .iter()
-            .map(|&(n, w)| {
-                let rows = Self::row_cdf(self.node(n));
-                w * (rows[r + 1] as f64 - rows[r] as f64)
-            })
-            .sum();
-        (1.0 - COSINE_SHARE) * table + COSINE_SHARE * cosine_row_probability(r)
-    }
-
-    /// The mixture's probability of the cells of row `r` left of column `c`.
-    fn mixture_columns_left(&self, nodes: &[(usize, f64); 4], r: usize, c: usize) -> f64 {
-        let table: f64 = nodes
-            .iter()
-            .map(|&(n, w)| {
-                let node = self.node(n);
-                let rows = Self::row_cdf(node);
-                w * (rows[r + 1] as f64 - rows[r] as f64) * Self::column_cdf(node, r)[c] as f64
-            })
-            .sum();
-        (1.0 - COSINE_SHARE) * table
-            + COSINE_SHARE * cosine_row_probability(r) * c as f64 / COLUMNS as f64
-    }
-
-    /// The probability of cell (`r`, `c`) in the mixture of `nodes` with the cosine share:
-    /// each node's cell probability (a difference of stored neighbours, so that rounding
-    /// cannot make sampling and density disagree) and the cosine density's mass in the cell.
-    fn mixture_cell_probability(&self, nodes: &[(usize, f64); 4], r: usize, c: usize) -> f64 {
-        let table: f64 = nodes
-            .iter()
+            .filter(|&&(_, w)| w > 0.0)
             .map(|&(n, w)| w * self.cell_probability(n, r, c))
             .sum();
-        (1.0 - COSINE_SHARE) * table + COSINE_SHARE * cosine_row_probability(r) / COLUMNS as f64
+        COSINE_SHARE * wi.z / PI + (1.0 - COSINE_SHARE) * table / solid_angle
     }
 
-    /// `pdf(wi | wo)` per unit solid angle, as [`Sampler::sample`] draws it: constant over
-    /// each cell, its mixture probability over its solid angle; 0 when either direction is
-    /// not above the horizon. Both unit, in the patch frame.
+    /// `pdf(wi | wo)` per unit solid angle, as [`Sampler::sample`] draws it; 0 when either
+    /// direction is not above the horizon. Both unit, in the patch frame.
     pub fn pdf(&self, wo: DVec3, wi: DVec3) -> f64 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
-        let r = ((elevation_of(wi) / FRAC_PI_2 * ROWS as f64) as usize).min(ROWS - 1);
-        let c = ((azimuth_of(wi) / TAU * COLUMNS as f64) as usize).min(COLUMNS - 1);
-        self.mixture_cell_probability(&node_weights(wo), r, c) / cell_solid_angle(r)
+        self.mixture_pdf(&node_weights(wo), wi)
     }
 
-    /// A direction drawn for unit `wo` from two uniform numbers in [0, 1), its density and
-    /// the derivatives of the draw; `None` when `wo` is not above the horizon or the draw
-    /// lands on the horizon itself.
-    ///
-    /// The mixture of the four nodes around wo and the cosine share is inverted as one
-    /// piecewise-constant density: u1 picks the row by the mixture's marginal over rows
-    /// (the partial sums Σ_{r' < r} P(r')), then z uniformly inside it; u2 the column by the
-    /// row's conditional, then the azimuth inside it. Each number moves the draw along one
-    /// axis, so a stratified set of (u1, u2) (such as [`net_point`]'s) stays stratified over
-    /// the density: the draws tile F's mass in cells of equal probability.
-    pub fn sample(&self, wo: DVec3, u: [f64; 2]) -> Option<Sample> {
+    /// A direction drawn for unit `wo` from three uniform numbers in [0, 1), and its density;
+    /// `None` when `wo` is not above the horizon or the draw lands on the horizon itself.
+    pub fn sample(&self, wo: DVec3, u: [f64; 3]) -> Option<Sample> {
         if wo.z <= 0.0 {
             return None;
         }
-        let nodes = node_weights(wo);
-        let r = first_exceeding(ROWS, u[0], |r| self.mixture_rows_below(&nodes, r));
-        let below = self.mixture_rows_below(&nodes, r);
-        let ur = ((u[0] - below) / (self.mixture_rows_below(&nodes, r + 1) - below))
-            .clamp(0.0, 1.0 - f64::EPSILON);
-        let row_p = self.mixture_row_probability(&nodes, r);
-        // The column against u2 scaled to the row's probability (its partial sums' total:
-        // each node's column CDF ends at exactly 1).
-        let target = u[1] * row_p;
-        let c = first_exceeding(COLUMNS, target, |c| self.mixture_columns_left(&nodes, r, c));
-        let left = self.mixture_columns_left(&nodes, r, c);
-        let uc = ((target - left) / (self.mixture_columns_left(&nodes, r, c + 1) - left))
-            .clamp(0.0, 1.0 - f64::EPSILON);
-        // The density as `pdf` computes it, whatever the rounding of the partial sums.
-        let cell_p = self.mixture_cell_probability(&nodes, r, c);
-        let height = row_z(r + 1) - row_z(r);
-        let wi = direction_at_z(
-            row_z(r) + ur * height,
-            (c as f64 + uc) * TAU / COLUMNS as f64,
-        );
-        if wi.z <= 0.0 || cell_p <= 0.0 {
+        let weights = node_weights(wo);
+        let wi = if u[2] < COSINE_SHARE {
+            // Cosine density: z² uniform (Malley's method in z and azimuth).
+            direction_at_z((1.0 - u[0]).sqrt(), u[1] * TAU)
+        } else {
+            let mut pick = (u[2] - COSINE_SHARE) / (1.0 - COSINE_SHARE);
+            let mut chosen = weights[0].0;
+            for &(n, w) in &weights {
+                if w > 0.0 {
+                    chosen = n;
+                    if pick < w {
+                        break;
+                    }
+                    pick -= w;
+                }
+            }
+            let node = self.node(chosen);
+            let (r, ur) = invert_cdf(Self::row_cdf(node), u[0]);
+            let (c, uc) = invert_cdf(Self::column_cdf(node, r), u[1]);
+            let z = row_z(r) + ur * (row_z(r + 1) - row_z(r));
+            direction_at_z(z, (c as f64 + uc) * TAU / COLUMNS as f64)
+        };
+        if wi.z <= 0.0 {
             return None;
         }
-        Some(Sample {
-            wi,
-            pdf: cell_p / cell_solid_angle(r),
-            dz_du1: height / row_p,
-            dazimuth_du2: TAU / COLUMNS as f64 * row_p / cell_p,
-        })
+        let pdf = self.mixture_pdf(&weights, wi);
+        (pdf > 0.0).then_some(Sample { wi, pdf })
     }
 
     /// The WGSL constants `shaders/sampling/fabric_sampler.wgsl` requires (the layout's sizes):
     /// the generated module [`crate::shader::SAMPLER_CONSTANTS`]. That file holds
-    /// `sampling_sample`, `sampling_pdf`, `sampling_net_point`, `sampling_footprint_half`,
-    /// `sampling_lod` and the helpers they need, without a binding (the module that requires
-    /// it declares `sampling_data`).
+    /// `sampling_sample`, `sampling_pdf`, `sampling_hammersley` and the helpers they need,
+    /// without a binding (the module that requires it declares `sampling_data`).
     pub fn wgsl_constants() -> String {
         use crate::table::wgsl::wgsl_f32;
         format!(
@@ -494,9 +373,9 @@ impl Sampler {
 }
 
 /// The directional albedo `∫ F(wi, wo) dwi` (RGB) over the upper hemisphere for `wo`,
-/// estimated by importance sampling with `samples` stratified draws ([`net_point`]) of
-/// `sampler`, F by `f`. Also returns the standard deviation of the mean channel of one weight
-/// F/pdf, which bounds the estimate's error.
+/// estimated by importance sampling with `samples` stratified draws (a 2D grid in u1, u2,
+/// u3 by the Hammersley rule) of `sampler`, F by `f`. Also returns the standard deviation of
+/// the mean channel of one weight F/pdf, which bounds the estimate's error.
 pub fn directional_albedo(
     sampler: &Sampler,
     f: impl Fn(DVec3, DVec3) -> DVec3,
@@ -506,7 +385,7 @@ pub fn directional_albedo(
     let mut sum = DVec3::ZERO;
     let (mut mean, mut m2) = (0.0, 0.0);
     for k in 0..samples {
-        let u = net_point(k as u32, samples as u32);
+        let u = hammersley(k as u32, samples as u32);
         let weight = sampler
             .sample(wo, u)
             .map(|s| f(s.wi, wo) / s.pdf)
@@ -520,18 +399,6 @@ pub fn directional_albedo(
     }
     let n = samples.max(1) as f64;
     (sum / n, (m2 / (n - 1.0).max(1.0)).sqrt())
-}
-
-/// Point `k` of an `n`-point 2D Hammersley set, ((k + ½)/n, the base-2 radical inverse of k
-/// plus half its step): for n a power of two a (0, m, 2)-net, every box of the unit square
-/// of sides 2^−a × 2^−(m−a) and area 1/n holding exactly one point. Both coordinates sit at
-/// the centres of their strata, so no point lies on the edge u = 0 of a CDF, where
-/// [`Sampler::sample`] would pick the first cell however small its probability.
-pub fn net_point(k: u32, n: u32) -> [f64; 2] {
-    let bits = n.max(2).next_power_of_two().trailing_zeros();
-    let step = 0.5f64.powi(bits as i32);
-    let radical = k.reverse_bits() as f64 * 0.5f64.powi(32);
-    [(k as f64 + 0.5) / n as f64, radical + 0.5 * step]
 }
 
 /// Point `k` of an `n`-point 3D Hammersley set: (k + ½)/n, the base-2 radical inverse of k,

@@ -245,11 +245,11 @@ fn sample_agrees_with_eval_pdf_and_f() {
     // Draws for a few wo (one below the horizon: rejected), then each drawn pair through
     // `eval --pdf`: the same density, and weight·pdf = F (both the direct evaluation).
     let requests = [
-        ([0.0, 0.0, 1.0], [0.3, 0.6]),
-        ([0.4, -0.2, 0.5], [0.71, 0.12]),
-        ([0.9, 0.1, 0.05], [0.05, 0.9]),
-        ([0.2, 0.3, 0.7], [0.999, 0.001]),
-        ([0.2, 0.3, -0.7], [0.5, 0.5]),
+        ([0.0, 0.0, 1.0], [0.3, 0.6, 0.95]),
+        ([0.4, -0.2, 0.5], [0.71, 0.12, 0.44]),
+        ([0.9, 0.1, 0.05], [0.05, 0.9, 0.03]),
+        ([0.2, 0.3, 0.7], [0.999, 0.001, 0.5]),
+        ([0.2, 0.3, -0.7], [0.5, 0.5, 0.5]),
     ];
     let input: String = requests
         .iter()
@@ -302,14 +302,17 @@ fn sample_agrees_with_eval_pdf_and_f() {
 fn sample_rejects_bad_lines_and_albedo_prints_the_curve() {
     for (line, message) in [
         (
-            r#"{"wo":[0,0,1],"u":[0.5,1.0]}"#,
+            r#"{"wo":[0,0,1],"u":[0.5,1.0,0.5]}"#,
             "u[1] = 1 is not in [0, 1)",
         ),
         (
-            r#"{"wo":[0,0,1],"u":[-0.1,0.5]}"#,
+            r#"{"wo":[0,0,1],"u":[-0.1,0.5,0.5]}"#,
             "u[0] = -0.1 is not in [0, 1)",
         ),
-        (r#"{"wo":[0,0,0],"u":[0.1,0.5]}"#, "wo is the zero vector"),
+        (
+            r#"{"wo":[0,0,0],"u":[0.1,0.5,0.5]}"#,
+            "wo is the zero vector",
+        ),
         (r#"{"wo":[0,0,1]}"#, "missing field `u`"),
     ] {
         let out = clothbake(&["sample", "--fabric", "linen_plain"], &format!("{line}\n"));

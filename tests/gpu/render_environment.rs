@@ -148,7 +148,7 @@ fn white_furnace_gives_the_directional_albedo() {
             };
             let values: Vec<f64> = (0..DRAWS)
                 .map(|_| {
-                    let u = [rng.random(), rng.random()];
+                    let u = [rng.random(), rng.random(), rng.random()];
                     let mut c = 0.0;
                     if let Some(s) = r.sampler.sample(wo, u) {
                         c += f(s.wi) / (s.pdf + p_e);
@@ -201,12 +201,12 @@ fn white_furnace_gives_the_directional_albedo() {
 /// `studio_render_approaches_the_cpu_reference` is each plus a quarter (the GPU side is
 /// deterministic on one device; the reference's own noise, ~0.8%, is fixed by its seeds).
 const STUDIO_ERROR: [(&str, f64); 6] = [
-    ("linen_plain", 0.0183),
-    ("silk_crepe_de_chine", 0.0317),
-    ("polyester_satin_charmeuse", 0.0312),
-    ("polyester_satin_charmeuse_back", 0.0329),
-    ("silk_shot", 0.0414),
-    ("velvet", 0.0488),
+    ("linen_plain", 0.0402),
+    ("silk_crepe_de_chine", 0.0562),
+    ("polyester_satin_charmeuse", 0.0641),
+    ("polyester_satin_charmeuse_back", 0.0559),
+    ("silk_shot", 0.0575),
+    ("velvet", 0.0600),
 ];
 
 #[test]
@@ -250,14 +250,14 @@ fn studio_render_approaches_the_cpu_reference() {
 /// (same table, 256 MIS samples per pixel on the residual, the sun by its texel blocks), per
 /// fabric on lavapipe: with the sun lit as a light, and with the whole map sampled. The bound
 /// of `the_sun_as_a_light_brings_the_sky_to_the_reference` is the first plus a quarter, and
-/// the sun as a light must keep at least a factor 4 over sampling it (measured 7–14).
+/// the sun as a light must keep at least a factor 4 over sampling it (measured 7–12).
 const SKY_ERROR: [(&str, f64, f64); 6] = [
-    ("linen_plain", 0.0072, 0.1026),
-    ("silk_crepe_de_chine", 0.0145, 0.1677),
-    ("polyester_satin_charmeuse", 0.0126, 0.1621),
-    ("polyester_satin_charmeuse_back", 0.0134, 0.1707),
-    ("silk_shot", 0.0133, 0.1582),
-    ("velvet", 0.0343, 0.2553),
+    ("linen_plain", 0.0111, 0.1289),
+    ("silk_crepe_de_chine", 0.0177, 0.1885),
+    ("polyester_satin_charmeuse", 0.0190, 0.2111),
+    ("polyester_satin_charmeuse_back", 0.0175, 0.1914),
+    ("silk_shot", 0.0204, 0.1772),
+    ("velvet", 0.0360, 0.2525),
 ];
 
 #[test]
@@ -308,10 +308,10 @@ fn a_turned_sky_lights_the_cloth_as_the_reference_turns_it() {
     // The environment's rotation enters the shader's map lookups, the sources' directions
     // (turned on the CPU) and the reference's draws: turned by 100°, the sun comes from
     // behind-left and the render must still match the reference turned alike, as closely as
-    // unturned (velvet, the worst fabric under the sky: 3.4% unturned). Measured on
-    // lavapipe: 2.10% against the turned reference, 120% against the unturned one; the bound
+    // unturned (velvet, the worst fabric under the sky: 3.6% unturned). Measured on
+    // lavapipe: 2.24% against the turned reference, 120% against the unturned one; the bound
     // is the first plus a quarter, as the other environment tests'.
-    const TURNED_ERROR: f64 = 0.0210;
+    const TURNED_ERROR: f64 = 0.0224;
     let context = gpu_context();
     let map = GeneratedEnvironment::Sky.environment();
     let fabric = builtin()

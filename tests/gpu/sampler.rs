@@ -1,7 +1,6 @@
 //! The WGSL fabric sampler (shaders/sampling/fabric_sampler.wgsl) on the device wgpu finds (lavapipe in
 //! CI): its draws follow the CPU sampler's density (chi-square, every built-in fabric, the
-//! eight outgoing directions of the CPU test), the density it returns is the CPU's, and so
-//! are the footprints the environment light reads a draw in.
+//! eight outgoing directions of the CPU test), and the density it returns is the CPU's.
 //!
 //! Needs a wgpu adapter; without a GPU, Mesa's lavapipe (`apt-get install -y
 //! mesa-vulkan-drivers libvulkan1`). No adapter is a failure, not a skip.
@@ -22,7 +21,7 @@ const ALPHA: f64 = 0.01;
 /// Largest relative difference of the GPU's density from the CPU's away from cell edges:
 /// f32 CDF differences are exact on both sides, so what is left is f32 rounding in the
 /// bilinear weights and the cell's solid angle, whose z_{r+1} − z_r cancels next to the
-/// normal: sin's ~6e-8 over 1 − cos(90°/32) ≈ 1.2e-3 is 5e-5 (measured 6.0e-5 on
+/// normal: sin's ~6e-8 over 1 − cos(90°/32) ≈ 1.2e-3 is 5e-5 (measured 6.2e-5 on
 /// lavapipe).
 const PDF_RELATIVE: f64 = 1e-4;
 
@@ -130,66 +129,5 @@ fn wgsl_pdf_is_the_cpu_pdf() {
         close * 1000 >= pairs.len() * 999,
         "{close} of {} pdfs agree",
         pairs.len()
-    );
-}
-
-/// Largest angle (radians) between the GPU's and the CPU's centre of a footprint half, and
-/// largest relative difference of their solid angles, away from cell edges. Both follow the
-/// same f32 CDFs; what is left is f32 rounding of the derivatives (a few 1e-5 relative, as
-/// for the pdf), which the half's offset, a quarter of a side of up to 2π, turns into up to
-/// about 1e-4 rad. Measured on lavapipe over 64,000 halves: 1.3e-4 rad and 3.4e-5; the
-/// bounds are four and six times that, far below a texel of any map (3e-3 rad at 2048
-/// wide).
-const FOOTPRINT_ANGLE: f64 = 5e-4;
-const FOOTPRINT_RELATIVE: f64 = 2e-4;
-
-#[test]
-fn wgsl_footprints_are_the_cpu_footprints() {
-    let context = gpu_context();
-    let (mut worst_angle, mut worst_relative, mut compared) = (0.0f64, 0.0f64, 0usize);
-    for fabric in builtin()
-        .into_iter()
-        .filter(|f| ["polyester_satin_charmeuse", "velvet"].contains(&f.name.as_str()))
-    {
-        let sampler = Sampler::for_fabric(&fabric);
-        let gpu = GpuSampler::new(&context, &sampler).unwrap();
-        let mut rng = Pcg64::seed_from_u64(0xf007_9a1f);
-        let mut requests = Vec::new();
-        for &(elevation, azimuth) in &chi2::OUTGOING {
-            let wo = dir(elevation, azimuth).as_vec3();
-            for _ in 0..2000 {
-                let u: [f32; 2] = [rng.random(), rng.random()];
-                for h in 0..2 {
-                    requests.push((wo, Vec3::new(u[0], u[1], h as f32)));
-                }
-            }
-        }
-        let halves = gpu.footprint(&context, &requests).unwrap();
-        for ((wo, u), g) in requests.iter().zip(&halves) {
-            let Some(draw) = sampler.sample(wo.as_dvec3(), [u.x as f64, u.y as f64]) else {
-                continue;
-            };
-            if near_cell_edge(draw.wi) {
-                continue;
-            }
-            let (centre, solid_angle) = draw.footprint_half(16, u.z as u32);
-            let gpu_centre = DVec3::new(g[0] as f64, g[1] as f64, g[2] as f64);
-            let angle = gpu_centre.normalize().dot(centre).clamp(-1.0, 1.0).acos();
-            worst_angle = worst_angle.max(angle);
-            worst_relative = worst_relative.max((g[3] as f64 - solid_angle).abs() / solid_angle);
-            compared += 1;
-        }
-    }
-    println!(
-        "footprint halves, GPU against CPU over {compared}: worst angle {worst_angle:.2e} rad, \
-         worst relative solid angle {worst_relative:.2e}"
-    );
-    assert!(
-        worst_angle < FOOTPRINT_ANGLE,
-        "centres {worst_angle:.2e} rad apart"
-    );
-    assert!(
-        worst_relative < FOOTPRINT_RELATIVE,
-        "solid angles differ by {worst_relative:.2e}"
     );
 }

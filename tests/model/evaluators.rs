@@ -82,7 +82,7 @@ fn every_registered_evaluator_keeps_its_promises() {
             }
             let sampler = evaluation.sampler();
             let drawn = (0..16)
-                .filter_map(|k| sampler.sample(wo, [(k as f64 + 0.5) / 16.0, 0.37]))
+                .filter_map(|k| sampler.sample(wo, [(k as f64 + 0.5) / 16.0, 0.37, 0.61]))
                 .filter(|s| s.pdf > 0.0)
                 .count();
             assert!(drawn > 0, "{label}: the sampler drew nothing");

@@ -54,7 +54,7 @@ fn draws_follow_the_density_for_every_fabric() {
             let mut observed = vec![0u64; mass.len()];
             let mut rejected = 0usize;
             for _ in 0..DRAWS {
-                let u = [rng.random(), rng.random()];
+                let u = [rng.random(), rng.random(), rng.random()];
                 match sampler.sample(wo, u) {
                     Some(s) => {
                         assert!((s.wi.length() - 1.0).abs() < 1e-12 && s.wi.z > 0.0);
@@ -103,10 +103,10 @@ fn build_does_not_depend_on_the_thread_count() {
 }
 
 /// The variance of one weight's channel mean, (F/pdf), over `draws` random draws.
-fn weight_variance(draws: usize, mut weight: impl FnMut([f64; 2]) -> f64) -> f64 {
+fn weight_variance(draws: usize, mut weight: impl FnMut([f64; 3]) -> f64) -> f64 {
     let mut rng = Pcg64::seed_from_u64(0x00a1_bed0);
     let values: Vec<f64> = (0..draws)
-        .map(|_| weight([rng.random(), rng.random()]))
+        .map(|_| weight([rng.random(), rng.random(), rng.random()]))
         .collect();
     let mean = values.iter().sum::<f64>() / draws as f64;
     values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (draws - 1) as f64

@@ -70,10 +70,9 @@ fn cloth_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
 
 // ∫ L_env(wi) F(wi, wo) dwi over the view's environment map light by filtered importance
 // sampling (shaders/render/renderer.wgsl's `render_environment_light`, on a cubemap): K draws of the
-// fabric's sampler from one 2D net shared by every pixel, each read in the two halves of the
-// part of the sphere it stands for (`sampling_footprint_half`), each half at the mip level
-// whose texels cover its solid angle (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a
-// W × W face. Bevy's maps are prefiltered for GGX roughness rather than box-filtered,
+// fabric's sampler from one Hammersley set, each read at the mip level whose texels cover the
+// sample's solid angle 1/(K·pdf) (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a W × W
+// face. Bevy's maps are prefiltered for GGX roughness rather than box-filtered,
 // so their coarser levels blur more than the lod assumes.
 fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     let probes = view_bindings::light_probes;
@@ -91,22 +90,16 @@ fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f3
     let top = f32(textureNumLevels(map) - 1u);
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < count; k++) {
-        let draw = sampling_sample(wo, sampling_net_point(k, count));
-        let pdf = draw.direction.w;
-        if pdf <= 0.0 {
+        let s = sampling_sample(wo, sampling_hammersley(k, count));
+        if s.w <= 0.0 {
             continue;
         }
-        var radiance = vec3<f32>(0.0);
-        for (var h = 0u; h < 2u; h++) {
-            let part = sampling_footprint_half(draw, count, h);
-            // World direction, rotated as Bevy rotates the view's map; cubemaps are
-            // left-handed.
-            var d = cloth_rotate(probes.view_rotation, t * part.x + b * part.y + n * part.z);
-            d.z = -d.z;
-            let lod = clamp(sampling_lod(part.w, texel), 0.0, top);
-            radiance += textureSampleLevel(map, view_bindings::environment_map_sampler, d, lod).rgb;
-        }
-        sum += 0.5 * radiance * cloth_brdf(draw.direction.xyz, wo) / pdf;
+        // World direction, rotated as Bevy rotates the view's map; cubemaps are left-handed.
+        var d = cloth_rotate(probes.view_rotation, t * s.x + b * s.y + n * s.z);
+        d.z = -d.z;
+        let lod = clamp(sampling_lod(count, s.w, texel), 0.0, top);
+        let radiance = textureSampleLevel(map, view_bindings::environment_map_sampler, d, lod).rgb;
+        sum += radiance * cloth_brdf(s.xyz, wo) / s.w;
     }
     return sum * (probes.intensity_for_view / f32(max(count, 1u)));
 }

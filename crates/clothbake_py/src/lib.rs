@@ -100,16 +100,11 @@ fn evaluator_syntaxes() -> Vec<&'static str> {
 
 /// Refuses an array `name` whose shape is not (N, 3).
 fn three_columns(name: &str, shape: &[usize]) -> PyResult<()> {
-    columns(name, shape, 3)
-}
-
-/// Refuses an array `name` whose shape is not (N, `count`).
-fn columns(name: &str, shape: &[usize], count: usize) -> PyResult<()> {
-    if shape.len() == 2 && shape[1] == count {
+    if shape.len() == 2 && shape[1] == 3 {
         Ok(())
     } else {
         Err(error(format!(
-            "{name}: expected an array of shape (N, {count}), got {shape:?}"
+            "{name}: expected an array of shape (N, 3), got {shape:?}"
         )))
     }
 }
@@ -289,7 +284,7 @@ impl Evaluator {
         Ok(rows_array(values).into_pyarray(py))
     }
 
-    /// Directions drawn for each row of `wo` from two uniform numbers in [0, 1) per row
+    /// Directions drawn for each row of `wo` from three uniform numbers in [0, 1) per row
     /// of `u`: `(wi, pdf)` with wi of shape (N, 3) and pdf(wi | wo) per unit solid angle of
     /// shape (N,). A rejected draw (wo or the draw on or below the horizon) has wi = 0 and
     /// pdf = 0.
@@ -301,12 +296,12 @@ impl Evaluator {
     ) -> PyResult<Draws<'py>> {
         let wo = Directions::new("wo", &wo)?;
         let wo = py.detach(|| wo.all())?;
-        columns("u", u.shape(), 2)?;
-        let u: Vec<[f64; 2]> = u
+        three_columns("u", u.shape())?;
+        let u: Vec<[f64; 3]> = u
             .as_array()
             .rows()
             .into_iter()
-            .map(|r| [r[0], r[1]])
+            .map(|r| [r[0], r[1], r[2]])
             .collect();
         if let Some(row) = u
             .iter()

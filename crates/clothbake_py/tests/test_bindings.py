@@ -60,7 +60,7 @@ def test_every_evaluator_agrees_with_the_rust_library_pair_by_pair(cli, rng, fab
 def test_sampler_draws_and_densities_are_the_rust_library_s(cli, rng, fabric):
     evaluator = clothbake.Evaluator(clothbake.Fabric.builtin(fabric), "direct")
     wo = unit_rows(rng, 200, upper=True)
-    u = rng.random((200, 2))
+    u = rng.random((200, 3))
     wi, pdf = evaluator.sample(wo, u)
     out = cli(
         ["sample", "--fabric", fabric], [{"wo": a.tolist(), "u": b.tolist()} for a, b in zip(wo, u)]
@@ -137,7 +137,7 @@ def test_fabric_files_load_and_bad_ones_name_the_field(tmp_path):
             lambda: DIRECT().eval([[0, 0, 1]], [[np.nan, 0, 1]]),
             "row 0: wo has a non-finite component",
         ),
-        (lambda: DIRECT().sample([[0, 0, 1]], [[0.5, 1.0]]), r"row 0: u = \[0.5, 1.0\]"),
+        (lambda: DIRECT().sample([[0, 0, 1]], [[0.5, 1.0, 0.2]]), r"row 0: u = \[0.5, 1.0, 0.2\]"),
         (
             lambda: clothbake.bake(
                 clothbake.Fabric.builtin("velvet"), "/tmp/x.exr", layout="octree"

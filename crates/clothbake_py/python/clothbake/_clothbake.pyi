@@ -47,9 +47,9 @@ class Evaluator:
     def sample(
         self, wo: _Directions, u: npt.ArrayLike
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        """Directions wi (N, 3) drawn for each wo from two uniform numbers in [0, 1) per
-        row of u (shape (N, 2)), and pdf(wi | wo) per unit solid angle (N,); a rejected draw
-        has wi = 0 and pdf = 0."""
+        """Directions wi (N, 3) drawn for each wo from three uniform numbers in [0, 1) per
+        row of u, and pdf(wi | wo) per unit solid angle (N,); a rejected draw has wi = 0 and
+        pdf = 0."""
 
     def pdf(self, wo: _Directions, wi: _Directions) -> npt.NDArray[np.float64]:
         """pdf(wi | wo) per unit solid angle, shape (N,); 0 unless both are above the

@@ -124,9 +124,9 @@ class ClothbakeBSDF(mi.BSDF):
         n = max(dr.width(sample1), dr.width(sample2))
         view, _, usable, below = _pair(si.wi, si.wi, n)
         n = len(view)
-        # clothbake's sampler draws from two numbers; sample1 is not needed.
         xy = np.asarray(sample2.numpy(), dtype=np.float64).reshape(2, -1)
-        u = np.stack([np.broadcast_to(c, (n,)) for c in (xy[0], xy[1])], axis=1)
+        z = np.asarray(sample1.numpy(), dtype=np.float64)
+        u = np.stack([np.broadcast_to(c, (n,)) for c in (xy[0], xy[1], z)], axis=1)
         # Dr.Jit's samples are in [0, 1); float32 rounding can reach 1 exactly.
         u = np.minimum(u, np.nextafter(1.0, 0.0))
         light, pdf = self.evaluator.sample(view, u)
