@@ -13,7 +13,7 @@
 use clothbake::bake::bake;
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::model::{Integration, Patch, ResonantNodes};
-use clothbake::table::Layout;
+use clothbake::table::{BATCH_LANES, BatchLanes, Layout, split_frame};
 use criterion::{
     BenchmarkGroup, BenchmarkId, Criterion, SamplingMode, Throughput, criterion_group,
     criterion_main, measurement::WallTime,
@@ -128,5 +128,41 @@ fn bench_lookup(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_direct_eval, bench_lookup);
+/// What split_frame's batch lookup spends on its point masses (the flat segments it
+/// evaluates by the sample kernel instead of tabulating): `point_masses` is both threads'
+/// `PointSamples::sums` over the same pairs, eight lanes at a time, as `lookup_batch` runs it.
+/// Beside `lookup_batch_split_frame` and `lookup_batch_thread_frame` of the same run it
+/// splits split_frame's cost into its table part and its point masses.
+fn bench_point_masses(c: &mut Criterion) {
+    let pairs: Vec<(Vec3, Vec3)> = direction_pairs(256)
+        .iter()
+        .map(|&(wi, wo)| (wi.as_vec3(), wo.as_vec3()))
+        .collect();
+    let mut group = c.benchmark_group("eval");
+    configure(&mut group);
+    group.throughput(Throughput::Elements(pairs.len() as u64));
+    for fabric in FabricSet::builtin().fabrics() {
+        let geometry = split_frame::Geometry::new(fabric, Layout::SPLIT_FRAME.default_resolution());
+        if geometry.threads.iter().all(|t| t.points.is_empty()) {
+            continue;
+        }
+        group.bench_function(BenchmarkId::new("point_masses", &fabric.name), |b| {
+            b.iter(|| {
+                let mut total = BatchLanes::splat(0.0);
+                for chunk in pairs.chunks_exact(BATCH_LANES) {
+                    let wi: [Vec3; BATCH_LANES] = std::array::from_fn(|k| black_box(chunk[k].0));
+                    let wo: [Vec3; BATCH_LANES] = std::array::from_fn(|k| black_box(chunk[k].1));
+                    for thread in &geometry.threads {
+                        let [r, t, p] = thread.samples.sums::<BatchLanes>(&wi, &wo);
+                        total += r + t + p;
+                    }
+                }
+                total
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_direct_eval, bench_lookup, bench_point_masses);
 criterion_main!(benches);

@@ -189,7 +189,7 @@ pub struct SplitThread {
     /// Evaluates single tangent samples of this thread in f64 (its curve is not used).
     model: ThreadModel,
     /// The same in f32 for the CPU lookup, with the constants of the WGSL sample kernel.
-    samples: PointSamples,
+    pub samples: PointSamples,
 }
 
 /// The lookup geometry of a split_frame table.
