@@ -19,7 +19,7 @@
 use clothbake::evaluator::table::TableLookup;
 use clothbake::evaluator::{EvaluationContext, Evaluator};
 use clothbake::formats::fabric_toml::FabricSet;
-use clothbake::gpu::{GpuContext, GpuSampler};
+use clothbake::gpu::{GpuContext, GpuSampleTaps};
 use clothbake::lighting::GeneratedEnvironment;
 use clothbake::lighting::bright_sources::MAX_SOURCES;
 use clothbake::model::{Integration, Patch, ResonantNodes};
@@ -29,7 +29,7 @@ use clothbake::render::{FrameSettings, GpuEnvironment, Headless};
 use clothbake::scene::Scene;
 use clothbake::scene::mesh::Mesh;
 
-const SAMPLE_COUNTS: [u32; 5] = [4, 8, 16, 32, 64];
+const SAMPLE_COUNTS: [u32; 6] = [4, 8, 16, 32, 64, 128];
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let arg = |i: usize, default: u32| -> u32 {
@@ -91,7 +91,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let evaluation = evaluator.prepare(fabric, &EvaluationContext::default())?;
             let brdf = evaluation.gpu(&context)?;
             let sampler = evaluation.sampler();
-            let gpu_sampler = GpuSampler::new(&context, &sampler)?;
+            let taps = SAMPLE_COUNTS
+                .iter()
+                .map(|&k| GpuSampleTaps::new(&context, &evaluation.sample_taps(&sampler, k)))
+                .collect::<Result<Vec<_>, _>>()?;
             let mut headless = Headless::new(&context, &mesh, brdf.as_ref(), size, size)?;
             let gbuffer = headless.gbuffer(&context, &settings)?;
             let patch = Patch::new(fabric, Integration::Resonant(ResonantNodes::DEFAULT));
@@ -115,11 +118,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             // A map without sources is measured once.
             let kinds = if splits[1].sources.is_empty() { 1 } else { 2 };
             for (split, gpu_map) in splits.iter().zip(&gpu_maps).take(kinds) {
-                headless
-                    .renderer
-                    .set_environment(&context, gpu_map, &gpu_sampler)?;
                 print!(" {} sources:", split.sources.len());
-                for k in SAMPLE_COUNTS {
+                for (k, taps) in SAMPLE_COUNTS.into_iter().zip(&taps) {
+                    headless.renderer.set_environment(&context, gpu_map, taps)?;
                     let mut settings = settings.clone();
                     settings.environment_samples = k;
                     let output = headless.render(&context, &settings, 1)?;
@@ -139,7 +140,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let fabric = set.require(&full.fabrics[0])?;
         let evaluation = evaluator.prepare(fabric, &EvaluationContext::default())?;
         let brdf = evaluation.gpu(&context)?;
-        let gpu_sampler = GpuSampler::new(&context, &evaluation.sampler())?;
+        let sampler = evaluation.sampler();
+        let taps = SAMPLE_COUNTS
+            .iter()
+            .map(|&k| GpuSampleTaps::new(&context, &evaluation.sample_taps(&sampler, k)))
+            .collect::<Result<Vec<_>, _>>()?;
         let mut headless = Headless::new(&context, &mesh, brdf.as_ref(), time_size, time_size)?;
         let time = |headless: &Headless,
                     label: &str,
@@ -159,10 +164,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         time(&headless, "lights only", 0)?;
         for sources in [MAX_SOURCES, 0] {
             let gpu_map = GpuEnvironment::split(&context, &map.split_bright_sources(sources))?;
-            headless
-                .renderer
-                .set_environment(&context, &gpu_map, &gpu_sampler)?;
-            for k in SAMPLE_COUNTS {
+            for (k, taps) in SAMPLE_COUNTS.into_iter().zip(&taps) {
+                headless
+                    .renderer
+                    .set_environment(&context, &gpu_map, taps)?;
                 time(&headless, &format!("+ sky, sources {sources}, K = {k}"), k)?;
             }
         }

@@ -1,9 +1,9 @@
 // The cloth render pass (src/render/renderer.rs): after a GpuBrdf's WGSL (the generated module
 // `brdf`), which defines `cloth_brdf(wi, wo)` = F(wi, wo) (docs/model.md) in the local cloth
-// frame with its bindings in @group(0), and the fabric sampler's functions
-// (shaders/sampling/fabric_sampler.wgsl). This file's own resources are in @group(1) (the
-// frame) and @group(2) (the environment light, and the sampler's data); its names avoid the
-// `cloth_` and `sampling_` prefixes of those modules.
+// frame with its bindings in @group(0), and the environment light's sample taps
+// (shaders/sampling/sample_taps.wgsl). This file's own resources are in @group(1) (the
+// frame) and @group(2) (the environment light: its map and the fabric's taps); its names
+// avoid the `cloth_` and `sampling_` prefixes of those modules.
 //
 // Per pixel: the thread frame (t = thread 1 along u, b = n × t, n) from the interpolated
 // vertex frame, re-orthonormalised; wi (to each light) and wo (to the eye) in that frame;
@@ -20,7 +20,7 @@
 // right-handed with y = n × t). Lights on the other side of the cloth give nothing (wi.z ≤ 0:
 // the model's one-sided patch).
 //
-// requires: brdf, sampling/fabric_sampler
+// requires: brdf, sampling/sample_taps
 
 // One light: vector.w = 0: directional, vector.xyz the unit direction towards it;
 // vector.w = 1: point, vector.xyz its position. power.rgb = colour·irradiance (directional)
@@ -39,7 +39,8 @@ struct RenderFrameUniform {
     // x: exposure; y: 1 to encode the display output as sRGB in the shader (UNORM targets),
     // 0 when the target format encodes it (…Srgb formats).
     params: vec4<f32>,
-    // x: number of lights; y: environment samples per pixel K (0: no environment light).
+    // x: number of lights; y: environment samples per pixel K (0: no environment light),
+    // the number the sample taps were built for.
     counts: vec4<u32>,
     // The environment map: x, y: level-0 width and height; z: mip levels; w: its rotation
     // about +y, radians (the light from world direction d is the map's at R_y(−w)·d).
@@ -51,11 +52,11 @@ struct RenderFrameUniform {
 @group(1) @binding(0) var<uniform> render_frame: RenderFrameUniform;
 
 // The environment map (equirectangular, +y up, `clothbake::environment`; mip level k is
-// level 0 box-filtered 2^k times by solid angle), its trilinear sampler, and the fabric
-// sampler's data (`clothbake::sampling::Sampler::data`).
+// level 0 box-filtered 2^k times by solid angle), its trilinear sampler, and the fabric's
+// sample taps (`clothbake::sampling::SampleTaps::values`).
 @group(2) @binding(0) var render_environment: texture_2d<f32>;
 @group(2) @binding(1) var render_environment_sampler: sampler;
-@group(2) @binding(2) var<storage, read> sampling_data: array<f32>;
+@group(2) @binding(2) var<storage, read> sampling_taps: array<vec4<f32>>;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -144,32 +145,34 @@ fn render_environment_uv(world: vec3<f32>, turn: vec2<f32>) -> vec2<f32> {
 }
 
 // ∫ L_env(wi) F(wi, wo) dwi by filtered importance sampling (Colbert and Křivánek, GPU Gems
-// 3, ch. 20): K directions from the fabric's sampler, one Hammersley set shared by every
-// pixel (the error is a smooth bias, not noise), each weighted by F/pdf and read from the
-// mip level whose texels cover the solid angle the sample stands for, Ωs = 1/(K·pdf):
-// lod = ½·log2(Ωs/Ωp) (`sampling_lod`), Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the
-// sample's polar angle θ.
+// 3, ch. 20): K directions drawn from the fabric's sampler, each weighted by F/pdf, read from
+// the fabric's sample taps (src/sampling/taps.rs: the draws and weights for a grid of wo,
+// computed once per fabric, one low-discrepancy set shared by every pixel, so the error is a
+// smooth bias rather than noise), each reading the mip level whose texels cover the solid
+// angle the sample stands for, Ωs = 1/(K·pdf): lod = ½·log2(Ωs/Ωp) (`sampling_lod`),
+// Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the sample's polar angle θ.
 fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
     let turn = render_environment_turn();
     let count = render_frame.counts.y;
     let size = render_frame.environment;
+    let nodes = sampling_tap_nodes(wo);
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < count; k++) {
-        let s = sampling_sample(wo, sampling_hammersley(k, count));
-        if s.w <= 0.0 {
+        let tap = sampling_tap(nodes, k, count);
+        if tap.pdf <= 0.0 {
             continue;
         }
-        let world = f.t * s.x + f.b * s.y + f.n * s.z;
+        let world = f.t * tap.wi.x + f.b * tap.wi.y + f.n * tap.wi.z;
         let sin_theta = sqrt(max(1.0 - world.y * world.y, 1e-8));
         let texel = (6.2831853 / size.x) * (3.14159265 / size.y) * sin_theta;
-        let lod = clamp(sampling_lod(count, s.w, texel), 0.0, size.z - 1.0);
+        let lod = clamp(sampling_lod(count, tap.pdf, texel), 0.0, size.z - 1.0);
         let radiance = textureSampleLevel(
             render_environment,
             render_environment_sampler,
             render_environment_uv(world, turn),
             lod,
         ).rgb;
-        sum += radiance * cloth_brdf(s.xyz, wo) / s.w;
+        sum += radiance * tap.weight;
     }
     return sum / f32(max(count, 1u));
 }

@@ -5,30 +5,16 @@
 //
 // Requires the generated module `sampler_constants`: the constants of
 // `Sampler::wgsl_constants` (SAMPLING_ELEVATION_NODES, SAMPLING_AZIMUTH_NODES, SAMPLING_ROWS,
-// SAMPLING_COLUMNS, SAMPLING_NODE_STRIDE, SAMPLING_COSINE_SHARE). Expects from the module
+// SAMPLING_COLUMNS, SAMPLING_NODE_STRIDE, SAMPLING_COSINE_SHARE), and sampling/grid. Expects from the module
 // that requires it the sampler's data (`Sampler::data`) as `sampling_data: array<f32>` in a
 // read-only storage binding (its group and binding are that module's choice). Top-level
 // names start with `sampling_` or `Sampling`.
 //
-// requires: sampler_constants
-
-const SAMPLING_PI: f32 = 3.14159265358979;
-const SAMPLING_TAU: f32 = 6.28318530717959;
-const SAMPLING_HALF_PI: f32 = 1.57079632679490;
+// requires: sampling/grid, sampler_constants
 
 // z = sin(elevation) at the lower edge of row r.
 fn sampling_row_z(r: u32) -> f32 {
     return sin(f32(r) * (SAMPLING_HALF_PI / f32(SAMPLING_ROWS)));
-}
-
-// Azimuth in [0, 2π) from x towards y.
-fn sampling_azimuth(w: vec3<f32>) -> f32 {
-    let a = atan2(w.y, w.x);
-    return select(a, a + SAMPLING_TAU, a < 0.0);
-}
-
-fn sampling_elevation(w: vec3<f32>) -> f32 {
-    return atan2(w.z, length(w.xy));
 }
 
 fn sampling_direction_at_z(z: f32, azimuth: f32) -> vec3<f32> {
@@ -36,27 +22,9 @@ fn sampling_direction_at_z(z: f32, azimuth: f32) -> vec3<f32> {
     return vec3<f32>(r * cos(azimuth), r * sin(azimuth), z);
 }
 
-// The four nodes around wo (indices) and their bilinear weights.
-struct SamplingNodes {
-    index: vec4<u32>,
-    weight: vec4<f32>,
-}
-
+// The sampler's four nodes around wo and their bilinear weights.
 fn sampling_nodes(wo: vec3<f32>) -> SamplingNodes {
-    let last = f32(SAMPLING_ELEVATION_NODES - 1u);
-    // Nodes at 90°·(i/(E − 1))^1.5: the node coordinate is (elevation/90°)^(2/3)·(E − 1).
-    let x = clamp(pow(max(sampling_elevation(wo) / SAMPLING_HALF_PI, 0.0), 2.0 / 3.0) * last, 0.0, last);
-    let i0 = min(u32(floor(x)), SAMPLING_ELEVATION_NODES - 2u);
-    let fx = x - f32(i0);
-    let y = sampling_azimuth(wo) / SAMPLING_TAU * f32(SAMPLING_AZIMUTH_NODES);
-    let j0 = u32(floor(y)) % SAMPLING_AZIMUTH_NODES;
-    let fy = clamp(y - floor(y), 0.0, 1.0);
-    let j1 = (j0 + 1u) % SAMPLING_AZIMUTH_NODES;
-    let a = SAMPLING_AZIMUTH_NODES;
-    return SamplingNodes(
-        vec4<u32>(i0 * a + j0, i0 * a + j1, (i0 + 1u) * a + j0, (i0 + 1u) * a + j1),
-        vec4<f32>((1.0 - fx) * (1.0 - fy), (1.0 - fx) * fy, fx * (1.0 - fy), fx * fy),
-    );
+    return sampling_grid_nodes(wo, SAMPLING_ELEVATION_NODES, SAMPLING_AZIMUTH_NODES);
 }
 
 // The interval k of the CDF of n + 1 values at sampling_data[base..] holding u, and u
@@ -126,17 +94,7 @@ fn sampling_sample(wo: vec3<f32>, u: vec3<f32>) -> vec4<f32> {
     if u.z < SAMPLING_COSINE_SHARE {
         wi = sampling_direction_at_z(sqrt(1.0 - u.x), u.y * SAMPLING_TAU);
     } else {
-        var pick = (u.z - SAMPLING_COSINE_SHARE) / (1.0 - SAMPLING_COSINE_SHARE);
-        var chosen = nodes.index.x;
-        for (var k = 0u; k < 4u; k++) {
-            if nodes.weight[k] > 0.0 {
-                chosen = nodes.index[k];
-                if pick < nodes.weight[k] {
-                    break;
-                }
-                pick -= nodes.weight[k];
-            }
-        }
+        let chosen = sampling_pick_node(nodes, (u.z - SAMPLING_COSINE_SHARE) / (1.0 - SAMPLING_COSINE_SHARE));
         let row = sampling_invert(chosen * SAMPLING_NODE_STRIDE, SAMPLING_ROWS, u.x);
         let column = sampling_invert(sampling_column_base(chosen, row.index), SAMPLING_COLUMNS, u.y);
         let z0 = sampling_row_z(row.index);
@@ -151,27 +109,4 @@ fn sampling_sample(wo: vec3<f32>, u: vec3<f32>) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     return vec4<f32>(wi, pdf);
-}
-
-// Point k of the K-point Hammersley set (the u of `sampling_sample` for K draws shared by
-// every pixel): ((k + ½)/K, base-2 and base-3 radical inverses of
-// k), as `clothbake::sampling::hammersley`.
-fn sampling_hammersley(k: u32, count: u32) -> vec3<f32> {
-    var base3 = 0.0;
-    var scale = 1.0 / 3.0;
-    for (var i = k; i > 0u; i = i / 3u) {
-        base3 += f32(i % 3u) * scale;
-        scale /= 3.0;
-    }
-    return vec3<f32>((f32(k) + 0.5) / f32(count), f32(reverseBits(k)) * 2.3283064e-10, base3);
-}
-
-// Filtered importance sampling's mip level (Colbert and Křivánek, GPU Gems 3, ch. 20) for one
-// of `count` draws of density `pdf` from a map whose level-0 texel spans `texel` steradians:
-// the level whose texels cover the draw's share of the sphere, 1/(count·pdf), i.e.
-// ½·log2(1/(count·pdf·texel)); the caller clamps it to the map's levels. Without the
-// original's +1: measured against the CPU reference (docs/sampling.md#what-was-tried), +1 blurs
-// cloth's narrow cone-shaped lobes too much, and −1 or −2 alias.
-fn sampling_lod(count: u32, pdf: f32, texel: f32) -> f32 {
-    return 0.5 * log2(1.0 / (f32(count) * pdf * texel));
 }

@@ -23,7 +23,7 @@ pub mod resonant;
 pub mod table;
 
 use crate::model::Fabric;
-use crate::sampling::Sampler;
+use crate::sampling::{SampleTaps, Sampler};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::fmt;
@@ -99,6 +99,13 @@ pub trait FabricEvaluator: Send + Sync {
     }
     /// The importance sampler that fits this evaluation (a table's own, or the fabric's).
     fn sampler(&self) -> Sampler;
+    /// The environment light's sample taps for up to `capacity` samples per pixel: the draws
+    /// of `sampler` (this evaluation's, [`Self::sampler`]) weighted by this evaluation's F.
+    fn sample_taps(&self, sampler: &Sampler, capacity: u32) -> SampleTaps {
+        SampleTaps::build(sampler, capacity, |pairs, out| {
+            out.copy_from_slice(&self.eval_batch(pairs))
+        })
+    }
     /// The GPU form of this evaluation, or [`EvaluatorError::NoGpuForm`].
     #[cfg(feature = "runtime")]
     fn gpu(&self, context: &GpuContext) -> Result<Box<dyn GpuBrdf>, EvaluatorError>;

@@ -31,7 +31,7 @@ pub mod table;
 pub use constant::GpuConstant;
 pub use direct::GpuDirect;
 pub use resonant::GpuResonant;
-pub use sampler::GpuSampler;
+pub use sampler::{GpuSampleTaps, GpuSampler};
 pub use table::GpuTable;
 
 use glam::Vec3;

@@ -2,12 +2,11 @@
 //! texture, the compact bright sources taken out of it as directional lights
 //! ([`crate::lighting::bright_sources`]), and the render pass's lighting group (@group(2) of
 //! shaders/render/renderer.wgsl): that texture, its trilinear sampler and the fabric's
-//! importance sampler ([`crate::gpu::GpuSampler`]) that filtered importance sampling draws
-//! from.
+//! sample taps ([`crate::gpu::GpuSampleTaps`]) that filtered importance sampling reads.
 
 use super::LightSource;
 use crate::gpu::sampler::sampler_entry;
-use crate::gpu::{GpuContext, GpuError, GpuSampler};
+use crate::gpu::{GpuContext, GpuError, GpuSampleTaps};
 use crate::lighting::{Environment, SplitEnvironment};
 use half::f16;
 
@@ -168,12 +167,12 @@ pub(super) fn lighting_layout(context: &GpuContext) -> wgpu::BindGroupLayout {
         })
 }
 
-/// The lighting group for `environment` and the fabric's `sampler`.
+/// The lighting group for `environment` and the fabric's sample `taps`.
 pub(super) fn lighting_group(
     context: &GpuContext,
     layout: &wgpu::BindGroupLayout,
     environment: &GpuEnvironment,
-    sampler: &GpuSampler,
+    taps: &GpuSampleTaps,
 ) -> wgpu::BindGroup {
     context
         .device
@@ -191,7 +190,7 @@ pub(super) fn lighting_group(
                 },
                 wgpu::BindGroupEntry {
                     binding: 2,
-                    resource: sampler.buffer.as_entire_binding(),
+                    resource: taps.buffer().as_entire_binding(),
                 },
             ],
         })

@@ -74,18 +74,19 @@ pub(super) struct FrameUniform {
 
 impl FrameUniform {
     /// `environment`: the environment map in the lighting group and its sources, if it holds
-    /// one (without, the frame has no environment light). The sources are lit with the
-    /// environment, after the scene's lights.
+    /// one (without, the frame has no environment light), and the samples per pixel of the
+    /// sample taps there: they are the frame's when its settings ask for environment light
+    /// (the renderer checks that the two agree). The sources are lit with the environment,
+    /// after the scene's lights.
     pub(super) fn new(
         settings: &FrameSettings,
         aspect: f32,
         encode_srgb: bool,
-        environment: Option<&EnvironmentFrame>,
+        environment: Option<(&EnvironmentFrame, u32)>,
     ) -> Self {
-        let samples = if environment.is_some() {
-            settings.environment_samples
-        } else {
-            0
+        let (environment, samples) = match environment {
+            Some((frame, taps)) if settings.environment_samples > 0 => (Some(frame), taps),
+            _ => (None, 0),
         };
         let dimensions = environment.map_or([0; 3], |e| e.dimensions);
         let sources = match environment {

@@ -101,6 +101,7 @@ impl Headless {
         settings: &FrameSettings,
         frames: u32,
     ) -> Result<RenderOutput, GpuError> {
+        self.renderer.check_settings(settings)?;
         let device = &context.device;
         let color_view = self.color.create_view(&Default::default());
         let linear_view = self.linear.create_view(&Default::default());

@@ -11,7 +11,7 @@ use super::reference::ReferenceEnvironment;
 use super::{FrameSettings, GpuEnvironment, Headless, RenderOutput, reference};
 use crate::evaluator::{EvaluationContext, Evaluator, FabricEvaluator};
 use crate::formats::fabric_toml::FabricSet;
-use crate::gpu::{GpuBrdf, GpuContext, GpuSampler};
+use crate::gpu::{GpuBrdf, GpuContext, GpuSampleTaps};
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::scene::Scene;
 use crate::scene::mesh::Mesh;
@@ -192,15 +192,24 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
                 job.height,
             )?),
         };
-        // The importance sampler that fits the evaluation, built on the CPU and uploaded: a
-        // table's from its texels (a fraction of a second), else the fabric's from the
-        // resonant quadrature.
+        // The importance sampler that fits the evaluation (a table's from its texels, else
+        // the fabric's from the resonant quadrature) and the sample taps drawn from it, built
+        // on the CPU once per fabric; the taps are uploaded.
         let sampler = gpu_environment.as_ref().map(|_| evaluation.sampler());
         if let (Some(map), Some(sampler)) = (&gpu_environment, &sampler) {
-            let gpu_sampler = GpuSampler::new(&context, sampler)?;
+            let start = Instant::now();
+            let taps = evaluation.sample_taps(sampler, settings.environment_samples);
+            say(&format!(
+                "{}: sampler and sample taps ({} per wo node, {} nodes) built in {:.2} s",
+                fabric.name,
+                taps.samples(),
+                crate::sampling::taps::TAP_NODES,
+                start.elapsed().as_secs_f64()
+            ));
+            let gpu_taps = GpuSampleTaps::new(&context, &taps)?;
             renderer
                 .renderer
-                .set_environment(&context, map, &gpu_sampler)?;
+                .set_environment(&context, map, &gpu_taps)?;
         }
         let output = renderer.render(&context, &settings, job.frames)?;
         let png = output_path(&job.out, &fabric.name, several);

@@ -8,7 +8,7 @@ use super::environment_map::{EnvironmentFrame, GpuEnvironment, lighting_group, l
 use super::frame::FrameUniform;
 use super::headless::target;
 use super::image;
-use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampler};
+use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampleTaps};
 use crate::scene::mesh::{Mesh, Vertex};
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
@@ -114,8 +114,11 @@ pub struct Renderer {
     brdf_group: wgpu::BindGroup,
     brdf_label: String,
     lighting_layout: wgpu::BindGroupLayout,
-    /// The environment map and the fabric sampler (@group(2)).
+    /// The environment map and the fabric's sample taps (@group(2)).
     lighting_group: wgpu::BindGroup,
+    /// The samples per pixel of the taps in `lighting_group` (0 until
+    /// [`Renderer::set_environment`]).
+    tap_samples: u32,
     /// [`GpuEnvironment::dimensions`] of the map in `lighting_group`; `None` until
     /// [`Renderer::set_environment`] (frames then have no environment light, whatever their
     /// settings ask).
@@ -148,7 +151,7 @@ impl Renderer {
         }
         let device = &context.device;
         let black = GpuEnvironment::black(context)?;
-        let placeholder = GpuSampler::placeholder(context)?;
+        let placeholder = GpuSampleTaps::placeholder(context)?;
         let lighting_layout = context.checked(|| lighting_layout(context))?;
         let lighting_group =
             context.checked(|| lighting_group(context, &lighting_layout, &black, &placeholder))?;
@@ -203,6 +206,7 @@ impl Renderer {
             brdf_label: String::new(),
             lighting_layout,
             lighting_group,
+            tap_samples: 0,
             environment: None,
             current: None,
             pipelines: HashMap::new(),
@@ -269,18 +273,36 @@ impl Renderer {
         Ok(())
     }
 
-    /// Lights the cloth with `environment` from now on, importance-sampled with the fabric's
-    /// `sampler` (the frame's [`FrameSettings::environment_samples`] per pixel; set the
-    /// sampler again when the fabric changes).
+    /// Lights the cloth with `environment` from now on, through the fabric's sample `taps`
+    /// (built for the frames' [`FrameSettings::environment_samples`], which
+    /// [`Renderer::check_settings`] checks; set the taps again when the fabric changes).
     pub fn set_environment(
         &mut self,
         context: &GpuContext,
         environment: &GpuEnvironment,
-        sampler: &GpuSampler,
+        taps: &GpuSampleTaps,
     ) -> Result<(), GpuError> {
         self.lighting_group = context
-            .checked(|| lighting_group(context, &self.lighting_layout, environment, sampler))?;
+            .checked(|| lighting_group(context, &self.lighting_layout, environment, taps))?;
+        self.tap_samples = taps.samples();
         self.environment = Some(environment.frame().clone());
+        Ok(())
+    }
+
+    /// Whether frames of `settings` can be drawn: their environment samples per pixel, if
+    /// any, must be those the taps of [`Renderer::set_environment`] were built for (the
+    /// taps' low-discrepancy set is a whole; a part of it would be biased).
+    pub fn check_settings(&self, settings: &FrameSettings) -> Result<(), GpuError> {
+        let samples = settings.environment_samples;
+        if self.environment.is_some() && samples > 0 && samples != self.tap_samples {
+            return Err(GpuError::Invalid {
+                name: "environment samples".into(),
+                message: format!(
+                    "{samples} per pixel, but the fabric's sample taps were built for {}",
+                    self.tap_samples
+                ),
+            });
+        }
         Ok(())
     }
 
@@ -407,7 +429,7 @@ impl Renderer {
             settings,
             aspect,
             self.encode_srgb,
-            self.environment.as_ref(),
+            self.environment.as_ref().map(|e| (e, self.tap_samples)),
         );
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&uniform));
     }

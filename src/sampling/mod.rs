@@ -39,8 +39,10 @@
 //! and then z inside it; u2 the column and then the azimuth inside it.
 
 pub mod environment;
+pub mod taps;
 
 pub use environment::{EnvironmentSampler, SAMPLER_MAX_WIDTH};
+pub use taps::SampleTaps;
 
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use glam::DVec3;
@@ -162,22 +164,45 @@ fn grid_row(wo: DVec3, rows: usize) -> f64 {
         .clamp(0.0, (rows - 1) as f64)
 }
 
-/// The four nodes around `wo` and their bilinear weights (node index, weight).
-fn node_weights(wo: DVec3) -> [(usize, f64); 4] {
-    let x = grid_row(wo, ELEVATION_NODES);
-    let i0 = (x.floor() as usize).min(ELEVATION_NODES - 2);
+/// The four nodes around `wo` on a grid of `elevations` × `azimuths` nodes (rows at
+/// [`grid_elevation`], azimuth j·360°/azimuths, node index i·azimuths + j) and their bilinear
+/// weights (node index, weight).
+fn grid_nodes(wo: DVec3, elevations: usize, azimuths: usize) -> [(usize, f64); 4] {
+    let x = grid_row(wo, elevations);
+    let i0 = (x.floor() as usize).min(elevations - 2);
     let fx = x - i0 as f64;
-    let y = azimuth_of(wo) / TAU * AZIMUTH_NODES as f64;
-    let j0 = (y.floor() as usize) % AZIMUTH_NODES;
+    let y = azimuth_of(wo) / TAU * azimuths as f64;
+    let j0 = (y.floor() as usize) % azimuths;
     let fy = (y - y.floor()).clamp(0.0, 1.0);
-    let j1 = (j0 + 1) % AZIMUTH_NODES;
-    let node = |i: usize, j: usize| i * AZIMUTH_NODES + j;
+    let j1 = (j0 + 1) % azimuths;
+    let node = |i: usize, j: usize| i * azimuths + j;
     [
         (node(i0, j0), (1.0 - fx) * (1.0 - fy)),
         (node(i0, j1), (1.0 - fx) * fy),
         (node(i0 + 1, j0), fx * (1.0 - fy)),
         (node(i0 + 1, j1), fx * fy),
     ]
+}
+
+/// The sampler's four nodes around `wo` and their bilinear weights.
+fn node_weights(wo: DVec3) -> [(usize, f64); 4] {
+    grid_nodes(wo, ELEVATION_NODES, AZIMUTH_NODES)
+}
+
+/// The node of `nodes` that `pick` in [0, 1) falls on when the unit interval is cut into
+/// their weights in order (a node of weight 0 is never chosen).
+fn pick_node(nodes: &[(usize, f64); 4], mut pick: f64) -> usize {
+    let mut chosen = nodes[0].0;
+    for &(n, w) in nodes {
+        if w > 0.0 {
+            chosen = n;
+            if pick < w {
+                break;
+            }
+            pick -= w;
+        }
+    }
+    chosen
 }
 
 impl Sampler {
@@ -330,18 +355,8 @@ impl Sampler {
             // Cosine density: z² uniform (Malley's method in z and azimuth).
             direction_at_z((1.0 - u[0]).sqrt(), u[1] * TAU)
         } else {
-            let mut pick = (u[2] - COSINE_SHARE) / (1.0 - COSINE_SHARE);
-            let mut chosen = weights[0].0;
-            for &(n, w) in &weights {
-                if w > 0.0 {
-                    chosen = n;
-                    if pick < w {
-                        break;
-                    }
-                    pick -= w;
-                }
-            }
-            let node = self.node(chosen);
+            let pick = (u[2] - COSINE_SHARE) / (1.0 - COSINE_SHARE);
+            let node = self.node(pick_node(&weights, pick));
             let (r, ur) = invert_cdf(Self::row_cdf(node), u[0]);
             let (c, uc) = invert_cdf(Self::column_cdf(node, r), u[1]);
             let z = row_z(r) + ur * (row_z(r + 1) - row_z(r));
@@ -354,10 +369,11 @@ impl Sampler {
         (pdf > 0.0).then_some(Sample { wi, pdf })
     }
 
-    /// The WGSL constants `shaders/sampling/fabric_sampler.wgsl` requires (the layout's sizes):
-    /// the generated module [`crate::shader::SAMPLER_CONSTANTS`]. That file holds
-    /// `sampling_sample`, `sampling_pdf`, `sampling_hammersley` and the helpers they need,
-    /// without a binding (the module that requires it declares `sampling_data`).
+    /// The WGSL constants `shaders/sampling/fabric_sampler.wgsl` and
+    /// `shaders/sampling/sample_taps.wgsl` require (the layouts' sizes): the generated module
+    /// [`crate::shader::SAMPLER_CONSTANTS`]. Those files hold `sampling_sample`, `sampling_pdf`
+    /// and `sampling_tap` and the helpers they need, without a binding (the module that
+    /// requires them declares `sampling_data` or `sampling_taps`).
     pub fn wgsl_constants() -> String {
         use crate::table::wgsl::wgsl_f32;
         format!(
@@ -366,8 +382,12 @@ impl Sampler {
              const SAMPLING_ROWS: u32 = {ROWS}u;\n\
              const SAMPLING_COLUMNS: u32 = {COLUMNS}u;\n\
              const SAMPLING_NODE_STRIDE: u32 = {NODE_STRIDE}u;\n\
-             const SAMPLING_COSINE_SHARE: f32 = {};\n",
-            wgsl_f32(COSINE_SHARE)
+             const SAMPLING_COSINE_SHARE: f32 = {};\n\
+             const SAMPLING_TAP_ELEVATIONS: u32 = {}u;\n\
+             const SAMPLING_TAP_AZIMUTHS: u32 = {}u;\n",
+            wgsl_f32(COSINE_SHARE),
+            taps::TAP_ELEVATIONS,
+            taps::TAP_AZIMUTHS,
         )
     }
 }

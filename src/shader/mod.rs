@@ -66,8 +66,11 @@ shader_files![
     "gpu/constant",
     "gpu/eval_pairs",
     "gpu/sampler_pairs",
-    // The fabric sampler (src/sampling/).
+    "gpu/tap_pairs",
+    // The fabric sampler and the environment light's taps (src/sampling/).
+    "sampling/grid",
     "sampling/fabric_sampler",
+    "sampling/sample_taps",
     // The render pass (src/render/renderer.rs).
     "render/renderer",
 ];

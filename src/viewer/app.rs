@@ -13,7 +13,7 @@ use super::{Shading, ViewError, ViewSummary};
 use crate::evaluator::EvaluationContext;
 use crate::evaluator::table::load_fabric_table;
 use crate::formats::table_exr::TableFile;
-use crate::gpu::{GpuContext, GpuSampler};
+use crate::gpu::{GpuContext, GpuSampleTaps};
 use crate::lighting::SplitEnvironment;
 use crate::model::Fabric;
 use crate::render::{Camera, FrameSettings, FrameTargets, GpuEnvironment, LightSource, Renderer};
@@ -234,8 +234,9 @@ impl App {
             }
         };
         if let (true, Some(map)) = (self.environment_on, &g.environment) {
-            if f.sampler.is_none() {
-                // The environment is sampled by the table's sampler whatever the mode shown.
+            if f.taps.is_none() {
+                // The environment light is the table's, whatever the mode shown: its
+                // sampler's draws weighted by the table's F.
                 let table = f
                     .entry(
                         &g.gpu,
@@ -244,12 +245,14 @@ impl App {
                         &context,
                     )
                     .map_err(|e| e.to_string())?;
-                let sampler = f.shown[table].evaluation.sampler();
-                f.sampler = Some(GpuSampler::new(&g.gpu, &sampler).map_err(|e| e.to_string())?);
+                let evaluation = &f.shown[table].evaluation;
+                let taps = evaluation
+                    .sample_taps(&evaluation.sampler(), self.setup.scene.environment.samples);
+                f.taps = Some(GpuSampleTaps::new(&g.gpu, &taps).map_err(|e| e.to_string())?);
             }
-            if let Some(sampler) = &f.sampler {
+            if let Some(taps) = &f.taps {
                 g.renderer
-                    .set_environment(&g.gpu, map, sampler)
+                    .set_environment(&g.gpu, map, taps)
                     .map_err(|e| e.to_string())?;
             }
         }

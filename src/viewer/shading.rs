@@ -6,7 +6,7 @@ use crate::evaluator::resonant::Resonant;
 use crate::evaluator::table::{TableEvaluation, TableLookup};
 use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError, FabricEvaluator};
 use crate::formats::table_exr::TableFile;
-use crate::gpu::{GpuBrdf, GpuContext, GpuSampler};
+use crate::gpu::{GpuBrdf, GpuContext, GpuSampleTaps};
 use crate::model::{Fabric, ResonantNodes};
 use std::sync::Arc;
 
@@ -40,9 +40,9 @@ impl Shading {
 /// table's first), by evaluator spelling.
 pub(super) struct FabricGpu {
     pub shown: Vec<Shown>,
-    /// The importance sampler of the fabric's table evaluation, once the environment light
-    /// needs it.
-    pub sampler: Option<GpuSampler>,
+    /// The sample taps of the fabric's table evaluation, once the environment light needs
+    /// them.
+    pub taps: Option<GpuSampleTaps>,
 }
 
 /// One evaluation of a fabric and its GPU form.
@@ -64,7 +64,7 @@ impl FabricGpu {
                 evaluation,
                 brdf,
             }],
-            sampler: None,
+            taps: None,
         })
     }
 

@@ -131,3 +131,71 @@ fn wgsl_pdf_is_the_cpu_pdf() {
         pairs.len()
     );
 }
+
+/// The WGSL tap pick (`sampling_tap`, shaders/sampling/sample_taps.wgsl) reads the tap that
+/// the CPU's `SampleTaps::pick` names, for random wo above the horizon and every k: the same
+/// four nodes, the same node for the same k, the same values. The node choice compares
+/// `tap_choice(k)` (exact in f32 on both sides) with running sums of the bilinear weights,
+/// which the GPU forms in f32 from an f32 atan2 and pow: a pick may differ where the choice
+/// falls within rounding of a boundary (8 of these 64,000 on lavapipe, 1.3·10⁻⁴); the
+/// bound is four times that.
+#[test]
+fn wgsl_tap_picks_are_the_cpus() {
+    use clothbake::gpu::GpuSampleTaps;
+    use clothbake::sampling::SampleTaps;
+    const CAPACITY: u32 = 16;
+    let context = gpu_context();
+    let fabric = &builtin()[2];
+    let sampler = Sampler::for_fabric(fabric);
+    let patch = clothbake::model::Patch::new(
+        fabric,
+        clothbake::model::Integration::Resonant(clothbake::sampling::BUILD_NODES),
+    );
+    let taps = SampleTaps::build(&sampler, CAPACITY, |pairs, out| {
+        for (o, &(wi, wo)) in out.iter_mut().zip(pairs) {
+            *o = patch.eval(wi, wo);
+        }
+    });
+    let gpu = GpuSampleTaps::new(&context, &taps).unwrap();
+    let mut rng = Pcg64::seed_from_u64(0x7a95);
+    let requests: Vec<(Vec3, u32)> = (0..4000)
+        .flat_map(|_| {
+            let z: f32 = rng.random_range(0.001..1.0);
+            let a: f32 = rng.random_range(0.0..std::f32::consts::TAU);
+            let r = (1.0 - z * z).sqrt();
+            let wo = Vec3::new(r * a.cos(), r * a.sin(), z);
+            (0..CAPACITY).map(move |k| (wo, k))
+        })
+        .collect();
+    let picked = gpu.pick(&context, &requests).unwrap();
+    let mut different = 0;
+    for (&(wo, k), [draw, weight]) in requests.iter().zip(&picked) {
+        let cpu = taps.pick(wo.as_dvec3(), k);
+        let gpu_tap = [
+            draw[0], draw[1], draw[2], draw[3], weight[0], weight[1], weight[2],
+        ];
+        let cpu_tap = [
+            cpu.wi.x,
+            cpu.wi.y,
+            cpu.wi.z,
+            cpu.pdf,
+            cpu.weight.x,
+            cpu.weight.y,
+            cpu.weight.z,
+        ];
+        if gpu_tap != cpu_tap {
+            different += 1;
+        }
+    }
+    println!(
+        "{}: {} tap picks on {}, {different} differ from the CPU's",
+        fabric.name,
+        requests.len(),
+        context.adapter
+    );
+    assert!(
+        different <= 32,
+        "{different} of {} picks differ",
+        requests.len()
+    );
+}

@@ -156,10 +156,6 @@ fn usage(problem: &str) -> AppExit {
     AppExit::error()
 }
 
-/// Environment samples per fragment: a quarter of `clothbake render`'s, to keep frames quick
-/// on CPU renderers.
-const ENVIRONMENT_SAMPLES: u32 = 16;
-
 fn setup(
     mut commands: Commands,
     options: Res<Options>,
@@ -182,11 +178,7 @@ fn setup(
     };
     let loaded: Vec<ClothMaterial> = names
         .iter()
-        .map(|name| {
-            let mut material = ClothMaterial::load(&assets, &format!("{name}.exr"));
-            material.environment_samples.x = ENVIRONMENT_SAMPLES;
-            material
-        })
+        .map(|name| ClothMaterial::load(&assets, &format!("{name}.exr")))
         .collect();
     let tables = loaded.iter().map(|m| m.table.clone()).collect();
     let handles: Vec<Handle<ClothMaterial>> =

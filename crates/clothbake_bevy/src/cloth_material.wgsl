@@ -3,20 +3,20 @@
 // clothbake's composer (`clothbake::shader::Composer`) writes this file after what it requires
 // below: the table's specialised lookup (the module `brdf` of
 // `clothbake::table::wgsl::lookup_composer`: `cloth_brdf(wi, wo)` = F(wi, wo) of
-// docs/model.md, its textures and sampler in the material's bind group) and the fabric
-// sampler (shaders/sampling/fabric_sampler.wgsl of clothbake, with its constants).
+// docs/model.md, its textures and sampler in the material's bind group) and the environment
+// light's sample taps (shaders/sampling/sample_taps.wgsl of clothbake, with its constants).
 //
 // Per fragment, as `clothbake render` (shaders/render/renderer.wgsl): the thread frame (t = thread 1
 // along the mesh's UV tangent, b = n × t, n), flipped to the side facing the viewer (two-sided
 // cloth); wi and wo in that frame; radiance L = Σ E·F(wi, wo)·shadow over Bevy's directional
 // and point lights, plus the ambient light L_a times the directional albedo ∫F dwi at wo (exact
 // for a uniform ambient radiance), plus the view's environment map light by filtered
-// importance sampling with the fabric's sampler, as `clothbake render` does. E in Bevy's
+// importance sampling through the fabric's sample taps, as `clothbake render` does. E in Bevy's
 // units: a directional light's illuminance (lux), a point light's luminous intensity
 // (power/4π) times Bevy's inverse-square falloff with its range window. Then the camera's
 // exposure, and tone mapping where Bevy does it in the shader.
 //
-// requires: brdf, sampling/fabric_sampler
+// requires: brdf, sampling/sample_taps
 
 #import bevy_pbr::{
     forward_io::VertexOutput,
@@ -30,10 +30,9 @@
 #import bevy_core_pipeline::tonemapping::tone_mapping
 #endif
 
-// The fabric's sampler (`clothbake::sampling::Sampler::data`, built from the table) and the
-// environment samples per fragment (x).
-@group(#{MATERIAL_BIND_GROUP}) @binding(9) var<storage, read> sampling_data: array<f32>;
-@group(#{MATERIAL_BIND_GROUP}) @binding(10) var<uniform> cloth_environment_samples: vec4<u32>;
+// The fabric's sample taps (`clothbake::sampling::SampleTaps::values`, built from the table
+// for `DEFAULT_ENVIRONMENT_SAMPLES` per fragment).
+@group(#{MATERIAL_BIND_GROUP}) @binding(9) var<storage, read> sampling_taps: array<vec4<f32>>;
 
 // The directional albedo ∫F dwi (RGB) over wo in the cloth frame
 // (`clothbake::sampling::AlbedoMap`): x = azimuth/2π from thread 1, y = (elevation/(π/2))^(2/3)
@@ -69,11 +68,12 @@ fn cloth_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
 }
 
 // ∫ L_env(wi) F(wi, wo) dwi over the view's environment map light by filtered importance
-// sampling (shaders/render/renderer.wgsl's `render_environment_light`, on a cubemap): K draws of the
-// fabric's sampler from one Hammersley set, each read at the mip level whose texels cover the
-// sample's solid angle 1/(K·pdf) (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a W × W
-// face. Bevy's maps are prefiltered for GGX roughness rather than box-filtered,
-// so their coarser levels blur more than the lod assumes.
+// sampling (shaders/render/renderer.wgsl's `render_environment_light`, on a cubemap): the K
+// sample taps of the tap nodes around wo (draws of the fabric's sampler and their weights F/pdf),
+// each read at the mip level whose texels cover the sample's solid angle 1/(K·pdf)
+// (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a W × W face. Bevy's maps are
+// prefiltered for GGX roughness rather than box-filtered, so their coarser levels blur more
+// than the lod assumes.
 fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     let probes = view_bindings::light_probes;
     if probes.view_cubemap_index < 0 {
@@ -84,22 +84,23 @@ fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f3
 #else
     let map = view_bindings::specular_environment_map;
 #endif
-    let count = cloth_environment_samples.x;
+    let count = sampling_tap_count();
+    let nodes = sampling_tap_nodes(wo);
     let width = f32(textureDimensions(map).x);
     let texel = 12.5663706 / (6.0 * width * width);
     let top = f32(textureNumLevels(map) - 1u);
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < count; k++) {
-        let s = sampling_sample(wo, sampling_hammersley(k, count));
-        if s.w <= 0.0 {
+        let tap = sampling_tap(nodes, k, count);
+        if tap.pdf <= 0.0 {
             continue;
         }
         // World direction, rotated as Bevy rotates the view's map; cubemaps are left-handed.
-        var d = cloth_rotate(probes.view_rotation, t * s.x + b * s.y + n * s.z);
+        var d = cloth_rotate(probes.view_rotation, t * tap.wi.x + b * tap.wi.y + n * tap.wi.z);
         d.z = -d.z;
-        let lod = clamp(sampling_lod(count, s.w, texel), 0.0, top);
+        let lod = clamp(sampling_lod(count, tap.pdf, texel), 0.0, top);
         let radiance = textureSampleLevel(map, view_bindings::environment_map_sampler, d, lod).rgb;
-        sum += radiance * cloth_brdf(s.xyz, wo) / s.w;
+        sum += radiance * tap.weight;
     }
     return sum * (probes.intensity_for_view / f32(max(count, 1u)));
 }

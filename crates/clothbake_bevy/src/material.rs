@@ -31,6 +31,7 @@ fn fragment(in: VertexOutput) -> @location(0) vec4<f32> {
 
 /// Importance samples per fragment of an environment map light, as `clothbake render`'s
 /// default: 4–7% from a converged reference on the studio map (docs/sampling.md#measured).
+/// The loader builds each table's sample taps for this many.
 pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 64;
 
 /// Cloth shaded by a clothbake table: F(wi, wo) of the table's fabric under Bevy's
@@ -39,8 +40,8 @@ pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 64;
 /// meshes need `Mesh::ATTRIBUTE_TANGENT`).
 ///
 /// Bindings in the material's group: the table's sampler (3), its textures (4–7), the
-/// directional albedo map (8), the fabric's importance sampler (9), all sub-assets of one
-/// [`ClothTable`], and the environment samples per fragment (10).
+/// directional albedo map (8) and the fabric's sample taps (9), all sub-assets of one
+/// [`ClothTable`].
 #[derive(Asset, TypePath, AsBindGroup, Clone, Debug)]
 #[bind_group_data(ClothMaterialKey)]
 pub struct ClothMaterial {
@@ -56,13 +57,9 @@ pub struct ClothMaterial {
     #[texture(8)]
     #[sampler(3)]
     pub albedo: Handle<Image>,
-    /// The fabric's sampler, for environment map light.
+    /// The fabric's sample taps, for environment map light.
     #[storage(9, read_only)]
     pub sampling: Handle<ShaderBuffer>,
-    /// x: importance samples per fragment of the view's environment map light (the rest
-    /// unused); [`DEFAULT_ENVIRONMENT_SAMPLES`] unless set.
-    #[uniform(10)]
-    pub environment_samples: UVec4,
     /// The fragment shader with the table's lookup.
     pub shader: Handle<Shader>,
     /// The table; holding it keeps the file's load alive for the sub-assets above.
@@ -94,7 +91,6 @@ impl ClothMaterial {
             binding7,
             albedo: table.albedo.clone(),
             sampling: table.sampling.clone(),
-            environment_samples: UVec4::new(DEFAULT_ENVIRONMENT_SAMPLES, 0, 0, 0),
             shader: table.shader.clone(),
             table: handle,
         }
@@ -115,7 +111,6 @@ impl ClothMaterial {
             binding7: asset_server.load(label("binding7")),
             albedo: asset_server.load(label("albedo")),
             sampling: asset_server.load(label("sampling")),
-            environment_samples: UVec4::new(DEFAULT_ENVIRONMENT_SAMPLES, 0, 0, 0),
             shader: asset_server.load(label("shader")),
             table,
         }

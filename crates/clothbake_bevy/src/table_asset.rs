@@ -10,7 +10,7 @@
 //! |---|---|---|
 //! | `binding4` … `binding7` | [`Image`] | the layout's textures at those bindings (`TableLookup::textures`), f16; a 1-texel stand-in where the layout has none |
 //! | `albedo` | [`Image`] | the directional albedo ∫F dwi over wo (`clothbake::sampling::AlbedoMap`), for ambient light |
-//! | `sampling` | [`ShaderBuffer`] | the fabric's importance sampler built from the table (`clothbake::sampling::Sampler::data`), for environment map light |
+//! | `sampling` | [`ShaderBuffer`] | the fabric's sample taps built from the table for [`crate::DEFAULT_ENVIRONMENT_SAMPLES`] per fragment (`clothbake::sampling::SampleTaps::values`), for environment map light |
 //! | `shader` | [`Shader`] | `cloth_material.wgsl` composed with the table's specialised lookup and the fabric sampler |
 
 use bevy::asset::io::Reader;
@@ -24,7 +24,9 @@ use bevy::render::storage::ShaderBuffer;
 use bevy::shader::Shader;
 use bevy::tasks::futures_lite::AsyncReadExt;
 use clothbake::formats::table_exr::{MAX_TABLE_FILE_BYTES, TableFileError, read_table_bytes};
-use clothbake::sampling::{ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap, Sampler};
+use clothbake::sampling::{
+    ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap, SampleTaps, Sampler,
+};
 use clothbake::shader;
 use clothbake::table::TextureData;
 use clothbake::table::wgsl::lookup_composer;
@@ -135,11 +137,8 @@ impl AssetLoader for ClothTableLoader {
             ALBEDO_SAMPLES,
         );
         let albedo = load_context.add_labeled_asset("albedo", albedo_image(&albedo));
-        let data: Vec<u8> = sampler
-            .data()
-            .iter()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
+        let taps = SampleTaps::for_table(table, &sampler, crate::DEFAULT_ENVIRONMENT_SAMPLES);
+        let data: Vec<u8> = taps.values().iter().flat_map(|v| v.to_le_bytes()).collect();
         let sampling = load_context.add_labeled_asset(
             "sampling",
             ShaderBuffer::new(&data, RenderAssetUsages::RENDER_WORLD),

@@ -122,8 +122,9 @@ const CASES: [Case; 6] = [
 
 /// Environment samples of `clothbake render` in the ambient case.
 const AMBIENT_SAMPLES: u32 = 256;
-/// Environment samples per pixel in the environment case, both sides.
-const ENVIRONMENT_SAMPLES: u32 = 64;
+/// Environment samples per pixel in the environment case, both sides: the material's, for
+/// which its loader builds the sample taps.
+const ENVIRONMENT_SAMPLES: u32 = clothbake_bevy::DEFAULT_ENVIRONMENT_SAMPLES;
 /// Face side of the test's cubemap: texels of about the equirectangular map's solid angle.
 const CUBE_SIDE: u32 = 128;
 
@@ -287,8 +288,7 @@ fn bevy_render(scene: &Scene, tables: &Path, case: &'static Case) -> (Vec<[f32; 
             let [ex, ey, ez] = camera.eye().map(|v| v as f32);
             let [tx, ty, tz] = camera.target.map(|v| v as f32);
             {
-                let mut material = ClothMaterial::load(&assets, &format!("{}.exr", case.fabric));
-                material.environment_samples.x = ENVIRONMENT_SAMPLES;
+                let material = ClothMaterial::load(&assets, &format!("{}.exr", case.fabric));
                 commands.spawn((
                     Mesh3d(mesh.clone()),
                     MeshMaterial3d(materials.add(material)),
