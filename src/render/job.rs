@@ -200,7 +200,7 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             let start = Instant::now();
             let taps = evaluation.sample_taps(sampler, settings.environment_samples);
             say(&format!(
-                "{}: sampler and sample taps ({} per wo node, {} nodes) built in {:.2} s",
+                "{}: sample taps ({} per wo node, {} nodes) built in {:.2} s",
                 fabric.name,
                 taps.samples(),
                 crate::sampling::taps::TAP_NODES,

@@ -7,7 +7,7 @@
 //! or the map, so they are computed here, once, for a grid of `wo`: per pixel a sample then
 //! costs one read of a tap and one filtered fetch of the map, instead of a sampler draw (two
 //! CDF searches), a table lookup and that fetch. Measured on lavapipe at 1024², a sample
-//! costs about a sixth of what it did (docs/sampling.md#sample-taps).
+//! costs about a seventh of what it did (docs/sampling.md#sample-taps).
 //!
 //! # Layout
 //! - **Nodes over wo**: [`TAP_ELEVATIONS`] × [`TAP_AZIMUTHS`], the sampler's grid rule
@@ -32,7 +32,7 @@
 //! picks are a second low-discrepancy sequence (the golden ratio's multiples modulo 1),
 //! independent of the taps' numbers.
 //!
-//! Built from any batched evaluation of F (a table's f32 lookup: 0.3 s for K = 64 on two
+//! Built from any batched evaluation of F (a table's lookup: 0.14–0.20 s for K = 64 on two
 //! cores), in parallel over nodes, each node alone: the taps do not depend on the thread
 //! count.
 
