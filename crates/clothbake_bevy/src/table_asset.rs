@@ -11,7 +11,7 @@
 //! | `binding4` … `binding7` | [`Image`] | the layout's textures at those bindings (`TableLookup::textures`), f16; a 1-texel stand-in where the layout has none |
 //! | `albedo` | [`Image`] | the directional albedo ∫F dwi over wo (`clothbake::sampling::AlbedoMap`), for ambient light |
 //! | `sampling` | [`ShaderBuffer`] | the fabric's sample taps built from the table for [`crate::DEFAULT_ENVIRONMENT_SAMPLES`] per fragment (`clothbake::sampling::SampleTaps::values`), for environment map light |
-//! | `shader` | [`Shader`] | `cloth_material.wgsl` composed with the table's specialised lookup and the fabric sampler |
+//! | `shader` | [`Shader`] | `cloth_material.wgsl` composed with the table's specialised lookup and the sample taps' functions |
 
 use bevy::asset::io::Reader;
 use bevy::asset::{AssetLoader, LoadContext, RenderAssetUsages};
