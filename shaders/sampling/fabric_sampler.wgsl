@@ -5,10 +5,10 @@
 //
 // Requires the generated module `sampler_constants`: the constants of
 // `Sampler::wgsl_constants` (SAMPLING_ELEVATION_NODES, SAMPLING_AZIMUTH_NODES, SAMPLING_ROWS,
-// SAMPLING_COLUMNS, SAMPLING_NODE_STRIDE, SAMPLING_COSINE_SHARE), and sampling/grid. Expects from the module
-// that requires it the sampler's data (`Sampler::data`) as `sampling_data: array<f32>` in a
-// read-only storage binding (its group and binding are that module's choice). Top-level
-// names start with `sampling_` or `Sampling`.
+// SAMPLING_COLUMNS, SAMPLING_NODE_STRIDE, SAMPLING_COSINE_SHARE), and sampling/grid. Expects
+// from the module that requires it the sampler's data (`Sampler::data`) as
+// `sampling_data: array<f32>` in a read-only storage binding (its group and binding are that
+// module's choice). Top-level names start with `sampling_` or `Sampling`.
 //
 // requires: sampling/grid, sampler_constants
 

@@ -1,7 +1,7 @@
 // The environment light's sample taps in WGSL: `clothbake::sampling::taps` (src/sampling/taps.rs,
 // whose module doc gives the layout and the estimate). Expects from the module that requires it
 // the taps (`SampleTaps::values`) as `sampling_taps: array<vec4<f32>>` in a read-only storage
-// binding, and their number of samples per pixel. Top-level names start with `sampling_` or `Sampling`.
+// binding. Top-level names start with `sampling_` or `Sampling`.
 //
 // requires: sampling/grid, sampler_constants
 

@@ -6,8 +6,7 @@
 //! pixel. In the patch frame a draw and its weight depend on `wo` alone, not on the pixel
 //! or the map, so they are computed here, once, for a grid of `wo`: per pixel a sample then
 //! costs one read of a tap and one filtered fetch of the map, instead of a sampler draw (two
-//! CDF searches), a table lookup and that fetch. Measured on lavapipe at 1024², a sample
-//! costs about a seventh of what it did (docs/sampling.md#sample-taps).
+//! CDF searches), a table lookup and that fetch (costs and errors: docs/sampling.md#sample-taps).
 //!
 //! # Layout
 //! - **Nodes over wo**: [`TAP_ELEVATIONS`] × [`TAP_AZIMUTHS`], the sampler's grid rule
@@ -17,12 +16,12 @@
 //!   pixel's.
 //! - **Values** ([`SampleTaps::values`], f32): first (K, 0, 0, 0), then the taps.
 //! - **Taps**: per node `n` and sample `k < K`, at `4 + (n·K + k)·8`, eight f32: (wi, pdf),
-//!   (w, 0), with wi the sampler's draw for
-//!   the node's `wo` from the numbers `hammersley(k, K)`, pdf its density and
-//!   w = F(wi, wo)/pdf (RGB). A rejected draw is all zeros (pdf 0). The taps serve exactly K
-//!   samples per pixel: a Hammersley set's first coordinate, (k + ½)/K, strata
-//!   the sampler's rows evenly only as a whole (a Halton sequence, whose prefixes are all
-//!   usable, read 10–40% higher errors at equal K in `tests/gpu/render_environment.rs`).
+//!   (w, 0), with wi the sampler's draw for the node's `wo` from the numbers
+//!   `hammersley(k, K)`, pdf its density and w = F(wi, wo)/pdf (RGB). A rejected draw is all
+//!   zeros (pdf 0). The taps serve exactly K samples per pixel: a Hammersley set's first
+//!   coordinate, (k + ½)/K, strata the sampler's rows evenly only as a whole (a Halton
+//!   sequence, whose every prefix would serve, reads higher errors at equal K:
+//!   docs/sampling.md#what-was-tried).
 //!
 //! # The estimate for a pixel
 //! For the pixel's `wo`, its four surrounding nodes and bilinear weights b_n; sample k reads
@@ -32,9 +31,8 @@
 //! picks are a second low-discrepancy sequence (the golden ratio's multiples modulo 1),
 //! independent of the taps' numbers.
 //!
-//! Built from any batched evaluation of F (a table's lookup: 0.14–0.20 s for K = 64 on two
-//! cores), in parallel over nodes, each node alone: the taps do not depend on the thread
-//! count.
+//! Built from any batched evaluation of F, in parallel over nodes, each node alone: the taps
+//! do not depend on the thread count.
 
 use super::{AZIMUTH_NODES, ELEVATION_NODES, Sampler, direction, grid_elevation, grid_nodes};
 use super::{hammersley, pick_node};
@@ -57,7 +55,7 @@ pub fn tap_choice(k: u32) -> f32 {
     (k.wrapping_mul(0x9E37_79B9) >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 
-/// One decoded tap.
+/// One tap.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tap {
     /// The draw, unit, in the patch frame.
