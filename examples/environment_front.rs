@@ -15,6 +15,11 @@
 //! noise: with independent errors of variance σ² / N, ‖r_N/4 − r_N‖ ≈ σ·√(4/N + 1/N), so the
 //! noise of r_N is that distance over √5. Frame times at TIME_SIZE² (0: none) are the median
 //! of 5 frames on whatever adapter wgpu finds, of the built-in scene (its lights) with the sky.
+//!
+//! With `ENVIRONMENT_FRONT_REFERENCES=DIR` the references are read from DIR when there
+//! (EXR, named by environment, fabric, size, samples and lights) and written there when not,
+//! so that a change to the GPU side is measured again in minutes. They depend on the model,
+//! the scene and the sampler: empty DIR when any of those changes.
 
 use clothbake::evaluator::table::TableLookup;
 use clothbake::evaluator::{EvaluationContext, Evaluator};
@@ -23,13 +28,13 @@ use clothbake::gpu::{GpuContext, GpuSampleTaps};
 use clothbake::lighting::GeneratedEnvironment;
 use clothbake::lighting::bright_sources::MAX_SOURCES;
 use clothbake::model::{Integration, Patch, ResonantNodes};
-use clothbake::render::image::image_error;
+use clothbake::render::image::{image_error, read_linear_exr, write_linear_exr};
 use clothbake::render::reference::{self, ReferenceEnvironment};
 use clothbake::render::{FrameSettings, GpuEnvironment, Headless};
 use clothbake::scene::Scene;
 use clothbake::scene::mesh::Mesh;
 
-const SAMPLE_COUNTS: [u32; 6] = [4, 8, 16, 32, 64, 128];
+const SAMPLE_COUNTS: [u32; 5] = [16, 32, 64, 96, 128];
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let arg = |i: usize, default: u32| -> u32 {
@@ -98,18 +103,32 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let mut headless = Headless::new(&context, &mesh, brdf.as_ref(), size, size)?;
             let gbuffer = headless.gbuffer(&context, &settings)?;
             let patch = Patch::new(fabric, Integration::Resonant(ResonantNodes::DEFAULT));
-            let reference_with = |samples| {
+            let reference_with = |samples: u32| -> Result<_, Box<dyn std::error::Error>> {
+                let cached = std::env::var_os("ENVIRONMENT_FRONT_REFERENCES").map(|dir| {
+                    std::path::PathBuf::from(dir).join(format!(
+                        "{}-{name}-{size}-{samples}{}.exr",
+                        generated.name(),
+                        if with_lights { "-lights" } else { "" }
+                    ))
+                });
+                if let Some(path) = cached.as_ref().filter(|p| p.exists()) {
+                    return Ok(read_linear_exr(path)?);
+                }
                 let environment = ReferenceEnvironment {
                     map: &map,
                     sampler: &sampler,
                     samples,
                 };
-                reference::shade(&gbuffer, &settings, &patch, Some(&environment))
+                let image = reference::shade(&gbuffer, &settings, &patch, Some(&environment));
+                if let Some(path) = cached {
+                    write_linear_exr(&path, &image)?;
+                }
+                Ok(image)
             };
             let start = std::time::Instant::now();
-            let reference = reference_with(reference_samples);
+            let reference = reference_with(reference_samples)?;
             let seconds = start.elapsed().as_secs_f64();
-            let quarter = reference_with((reference_samples / 4).max(1));
+            let quarter = reference_with((reference_samples / 4).max(1))?;
             let noise = image_error(&quarter, &reference, 1.0)?.relative_l2 / 5f64.sqrt();
             print!(
                 "{name}: reference {seconds:.1} s, its noise {:.2}%;",

@@ -53,10 +53,10 @@ struct RenderFrameUniform {
 
 // The environment map (equirectangular, +y up, `clothbake::environment`; mip level k is
 // level 0 box-filtered 2^k times by solid angle), its trilinear sampler, and the fabric's
-// sample taps (`clothbake::sampling::SampleTaps::values`).
+// sample taps (`clothbake::sampling::SampleTaps::words`).
 @group(2) @binding(0) var render_environment: texture_2d<f32>;
 @group(2) @binding(1) var render_environment_sampler: sampler;
-@group(2) @binding(2) var<storage, read> sampling_taps: array<vec4<f32>>;
+@group(2) @binding(2) var<storage, read> sampling_taps: array<vec4<u32>>;
 
 struct VertexIn {
     @location(0) position: vec3<f32>,
@@ -144,13 +144,13 @@ fn render_environment_uv(world: vec3<f32>, turn: vec2<f32>) -> vec2<f32> {
     return vec2<f32>(u, v);
 }
 
-// ∫ L_env(wi) F(wi, wo) dwi by filtered importance sampling (Colbert and Křivánek, GPU Gems
-// 3, ch. 20): K directions drawn from the fabric's sampler, each weighted by F/pdf, read from
-// the fabric's sample taps (src/sampling/taps.rs: the draws and weights for a grid of wo,
-// computed once per fabric, one low-discrepancy set shared by every pixel, so the error is a
-// smooth bias rather than noise), each reading the mip level whose texels cover the solid
-// angle the sample stands for, Ωs = 1/(K·pdf): lod = ½·log2(Ωs/Ωp) (`sampling_lod`),
-// Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the sample's polar angle θ.
+// ∫ L_env(wi) F(wi, wo) dwi as a sum over K strata of the hemisphere, each stratum's ∫F dwi
+// times the map filtered over it (src/sampling/taps.rs: the strata for a grid of wo,
+// computed once per fabric and shared by every pixel, so the error is a smooth bias rather
+// than noise): one fetch per stratum, in the direction of F's centroid in it, at the mip
+// level whose texels cover its solid angle Ωs, lod = ½·log2(Ωs/Ωp) (`sampling_lod`), as
+// filtered importance sampling does (Colbert and Křivánek, GPU Gems 3, ch. 20);
+// Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the tap's polar angle θ.
 fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
     let turn = render_environment_turn();
     let count = render_frame.counts.y;
@@ -159,13 +159,10 @@ fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < count; k++) {
         let tap = sampling_tap(nodes, k, count);
-        if tap.pdf <= 0.0 {
-            continue;
-        }
         let world = f.t * tap.wi.x + f.b * tap.wi.y + f.n * tap.wi.z;
         let sin_theta = sqrt(max(1.0 - world.y * world.y, 1e-8));
         let texel = (6.2831853 / size.x) * (3.14159265 / size.y) * sin_theta;
-        let lod = clamp(sampling_lod(count, tap.pdf, texel), 0.0, size.z - 1.0);
+        let lod = clamp(sampling_lod(tap.log2_solid_angle, texel), 0.0, size.z - 1.0);
         let radiance = textureSampleLevel(
             render_environment,
             render_environment_sampler,

@@ -102,7 +102,7 @@ pub fn tap_pairs_wgsl() -> String {
 impl GpuSampleTaps {
     /// Uploads `taps`.
     pub fn new(context: &GpuContext, taps: &SampleTaps) -> Result<Self, GpuError> {
-        let storage = Storage::new(context, "sample taps", bytemuck::cast_slice(taps.values()))?;
+        let storage = Storage::new(context, "sample taps", bytemuck::cast_slice(taps.words()))?;
         Ok(Self {
             storage,
             samples: taps.samples(),

@@ -93,6 +93,11 @@ fn row_z(r: usize) -> f64 {
     (r as f64 * FRAC_PI_2 / ROWS as f64).sin()
 }
 
+/// The solid angle of one cell of row `r`: (z_{r+1} − z_r)·2π/C.
+fn cell_solid_angle(r: usize) -> f64 {
+    (row_z(r + 1) - row_z(r)) * (TAU / COLUMNS as f64)
+}
+
 /// The unit direction of elevation `elevation` and azimuth `azimuth` (radians).
 fn direction(elevation: f64, azimuth: f64) -> DVec3 {
     let (sin_e, cos_e) = elevation.sin_cos();
@@ -326,13 +331,12 @@ impl Sampler {
     fn mixture_pdf(&self, nodes: &[(usize, f64); 4], wi: DVec3) -> f64 {
         let r = ((elevation_of(wi) / FRAC_PI_2 * ROWS as f64) as usize).min(ROWS - 1);
         let c = ((azimuth_of(wi) / TAU * COLUMNS as f64) as usize).min(COLUMNS - 1);
-        let solid_angle = (row_z(r + 1) - row_z(r)) * (TAU / COLUMNS as f64);
         let table: f64 = nodes
             .iter()
             .filter(|&&(_, w)| w > 0.0)
             .map(|&(n, w)| w * self.cell_probability(n, r, c))
             .sum();
-        COSINE_SHARE * wi.z / PI + (1.0 - COSINE_SHARE) * table / solid_angle
+        COSINE_SHARE * wi.z / PI + (1.0 - COSINE_SHARE) * table / cell_solid_angle(r)
     }
 
     /// `pdf(wi | wo)` per unit solid angle, as [`Sampler::sample`] draws it; 0 when either

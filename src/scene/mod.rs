@@ -29,7 +29,7 @@
 //! intensity = 3.0                   # I: irradiance E = I/d² at distance d
 //! [environment]                     # optional: distant light from everywhere
 //! source = "default"                # default (studio) | sky | overcast | interior | uniform | none | FILE.hdr/.exr
-//! samples = 64                      # filtered importance samples per pixel, 1 to 256
+//! samples = 96                      # filtered importance samples per pixel, 1 to 256
 //! sources = 8                       # bright sources lit as lights, 0 to 8 (0: all sampled)
 //! [mesh]                            # optional: the cloth (default: draped over a sphere)
 //! kind = "drape"                    # "drape" | "curtain" | "plane" | "obj"
@@ -182,13 +182,13 @@ pub enum MeshKind {
     Obj,
 }
 
-/// Environment samples per pixel of the default scene: 4–7% from the CPU reference under
-/// the studio environment, through the sample taps at two thirds of what 16 samples drawn
-/// per pixel cost (docs/sampling.md#measured has the measured front).
-pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 64;
-/// Most environment samples per pixel: the fabric's sample taps take 32 bytes per sample and
-/// wo node (8,320 nodes), 65 MiB at 256, within the 128 MiB that wgpu's default limits allow
-/// a storage binding (512 would need 130 MiB).
+/// Environment samples (sample taps) per pixel of the default scene: 1.8–2.8% from the CPU
+/// reference under the studio environment, at about what 16 samples drawn per pixel cost
+/// before the taps (docs/sampling.md#measured has the measured front).
+pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 96;
+/// Most environment samples per pixel: the fabric's sample taps take 16 bytes per sample and
+/// wo node (8,320 nodes), 33 MiB at 256, within the 128 MiB that wgpu's default limits allow
+/// a storage binding.
 pub const MAX_ENVIRONMENT_SAMPLES: u32 = 256;
 
 /// The environment light of a scene.

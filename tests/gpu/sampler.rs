@@ -132,13 +132,14 @@ fn wgsl_pdf_is_the_cpu_pdf() {
     );
 }
 
-/// The WGSL tap pick (`sampling_tap`, shaders/sampling/sample_taps.wgsl) reads the tap that
-/// the CPU's `SampleTaps::pick` names, for random wo above the horizon and every k: the same
-/// four nodes, the same node for the same k, the same values. The node choice compares
-/// `tap_choice(k)` (exact in f32 on both sides) with running sums of the bilinear weights,
-/// which the GPU forms in f32 from an f32 atan2 and pow: a pick may differ where the choice
-/// falls within rounding of a boundary (8 of these 64,000 on lavapipe, 1.3·10⁻⁴); the
-/// bound is four times that.
+/// The WGSL tap (`sampling_tap`, shaders/sampling/sample_taps.wgsl) is the CPU's
+/// `SampleTaps::pick`, for random wo above the horizon and every k: the same four nodes,
+/// their packed taps decoded alike and blended by the same bilinear weights. The weights
+/// come from an f32 atan2 and pow on the GPU and f64 on the CPU, and the blend is
+/// continuous in them, so the two differ by that rounding times the difference between
+/// neighbouring nodes' taps: measured on lavapipe at most 4.8e-5 in the direction, 1.3e-6
+/// (relative) in the weight and 2.8e-4 in log2 of the solid angle (neighbouring strata can
+/// differ several-fold in size); the bounds are ten times those.
 #[test]
 fn wgsl_tap_picks_are_the_cpus() {
     use clothbake::gpu::GpuSampleTaps;
@@ -147,13 +148,11 @@ fn wgsl_tap_picks_are_the_cpus() {
     let context = gpu_context();
     let fabric = &builtin()[2];
     let sampler = Sampler::for_fabric(fabric);
-    let patch = clothbake::model::Patch::new(
-        fabric,
-        clothbake::model::Integration::Resonant(clothbake::sampling::BUILD_NODES),
-    );
+    // F need not be the fabric's for the twins to agree: the fabric's sampler density
+    // itself, cheap to evaluate at the taps' 8.5 million points.
     let taps = SampleTaps::build(&sampler, CAPACITY, |pairs, out| {
         for (o, &(wi, wo)) in out.iter_mut().zip(pairs) {
-            *o = patch.eval(wi, wo);
+            *o = glam::DVec3::splat(sampler.pdf(wo, wi));
         }
     });
     let gpu = GpuSampleTaps::new(&context, &taps).unwrap();
@@ -168,34 +167,21 @@ fn wgsl_tap_picks_are_the_cpus() {
         })
         .collect();
     let picked = gpu.pick(&context, &requests).unwrap();
-    let mut different = 0;
-    for (&(wo, k), [draw, weight]) in requests.iter().zip(&picked) {
+    let (mut direction, mut weight, mut size) = (0.0f32, 0.0f32, 0.0f32);
+    for (&(wo, k), [draw, w]) in requests.iter().zip(&picked) {
         let cpu = taps.pick(wo.as_dvec3(), k);
-        let gpu_tap = [
-            draw[0], draw[1], draw[2], draw[3], weight[0], weight[1], weight[2],
-        ];
-        let cpu_tap = [
-            cpu.wi.x,
-            cpu.wi.y,
-            cpu.wi.z,
-            cpu.pdf,
-            cpu.weight.x,
-            cpu.weight.y,
-            cpu.weight.z,
-        ];
-        if gpu_tap != cpu_tap {
-            different += 1;
-        }
+        direction = direction.max((Vec3::new(draw[0], draw[1], draw[2]) - cpu.wi).length());
+        size = size.max((draw[3] - cpu.log2_solid_angle).abs());
+        let relative =
+            (Vec3::new(w[0], w[1], w[2]) - cpu.weight).abs() / cpu.weight.max(Vec3::splat(1e-6));
+        weight = weight.max(relative.max_element());
     }
     println!(
-        "{}: {} tap picks on {}, {different} differ from the CPU's",
+        "{}: {} taps on {}, largest differences from the CPU's: direction {direction:.1e}, \
+         weight {weight:.1e} (relative), log2 solid angle {size:.1e}",
         fabric.name,
         requests.len(),
         context.adapter
     );
-    assert!(
-        different <= 32,
-        "{different} of {} picks differ",
-        requests.len()
-    );
+    assert!(direction < 5e-4 && weight < 1.3e-5 && size < 2.8e-3);
 }

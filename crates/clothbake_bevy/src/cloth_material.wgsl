@@ -30,9 +30,9 @@
 #import bevy_core_pipeline::tonemapping::tone_mapping
 #endif
 
-// The fabric's sample taps (`clothbake::sampling::SampleTaps::values`, built from the table
+// The fabric's sample taps (`clothbake::sampling::SampleTaps::words`, built from the table
 // for `DEFAULT_ENVIRONMENT_SAMPLES` per fragment).
-@group(#{MATERIAL_BIND_GROUP}) @binding(9) var<storage, read> sampling_taps: array<vec4<f32>>;
+@group(#{MATERIAL_BIND_GROUP}) @binding(9) var<storage, read> sampling_taps: array<vec4<u32>>;
 
 // The directional albedo ∫F dwi (RGB) over wo in the cloth frame
 // (`clothbake::sampling::AlbedoMap`): x = azimuth/2π from thread 1, y = (elevation/(π/2))^(2/3)
@@ -69,9 +69,9 @@ fn cloth_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
 
 // ∫ L_env(wi) F(wi, wo) dwi over the view's environment map light by filtered importance
 // sampling (shaders/render/renderer.wgsl's `render_environment_light`, on a cubemap): the K
-// sample taps of the tap nodes around wo (draws of the fabric's sampler and their weights F/pdf),
-// each read at the mip level whose texels cover the sample's solid angle 1/(K·pdf)
-// (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a W × W face. Bevy's maps are
+// sample taps of the tap nodes around wo (each a stratum of the fabric's sampler: its weight
+// K·∫F dwi, read in the direction of F's centroid), each at the mip level whose texels cover
+// the stratum's solid angle (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a W × W face. Bevy's maps are
 // prefiltered for GGX roughness rather than box-filtered, so their coarser levels blur more
 // than the lod assumes.
 fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
@@ -92,13 +92,10 @@ fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f3
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < count; k++) {
         let tap = sampling_tap(nodes, k, count);
-        if tap.pdf <= 0.0 {
-            continue;
-        }
         // World direction, rotated as Bevy rotates the view's map; cubemaps are left-handed.
         var d = cloth_rotate(probes.view_rotation, t * tap.wi.x + b * tap.wi.y + n * tap.wi.z);
         d.z = -d.z;
-        let lod = clamp(sampling_lod(count, tap.pdf, texel), 0.0, top);
+        let lod = clamp(sampling_lod(tap.log2_solid_angle, texel), 0.0, top);
         let radiance = textureSampleLevel(map, view_bindings::environment_map_sampler, d, lod).rgb;
         sum += radiance * tap.weight;
     }

@@ -10,7 +10,7 @@
 //! |---|---|---|
 //! | `binding4` … `binding7` | [`Image`] | the layout's textures at those bindings (`TableLookup::textures`), f16; a 1-texel stand-in where the layout has none |
 //! | `albedo` | [`Image`] | the directional albedo ∫F dwi over wo (`clothbake::sampling::AlbedoMap`), for ambient light |
-//! | `sampling` | [`ShaderBuffer`] | the fabric's sample taps built from the table for [`crate::DEFAULT_ENVIRONMENT_SAMPLES`] per fragment (`clothbake::sampling::SampleTaps::values`), for environment map light |
+//! | `sampling` | [`ShaderBuffer`] | the fabric's sample taps built from the table for [`crate::DEFAULT_ENVIRONMENT_SAMPLES`] per fragment (`clothbake::sampling::SampleTaps::words`), for environment map light |
 //! | `shader` | [`Shader`] | `cloth_material.wgsl` composed with the table's specialised lookup and the sample taps' functions |
 
 use bevy::asset::io::Reader;
@@ -138,7 +138,7 @@ impl AssetLoader for ClothTableLoader {
         );
         let albedo = load_context.add_labeled_asset("albedo", albedo_image(&albedo));
         let taps = SampleTaps::for_table(table, &sampler, crate::DEFAULT_ENVIRONMENT_SAMPLES);
-        let data: Vec<u8> = taps.values().iter().flat_map(|v| v.to_le_bytes()).collect();
+        let data: Vec<u8> = taps.words().iter().flat_map(|v| v.to_le_bytes()).collect();
         let sampling = load_context.add_labeled_asset(
             "sampling",
             ShaderBuffer::new(&data, RenderAssetUsages::RENDER_WORLD),
