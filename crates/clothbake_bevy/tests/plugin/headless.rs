@@ -55,8 +55,8 @@ enum Lighting {
     Ambient,
     /// clothbake's studio environment: in Bevy an `EnvironmentMapLight` whose cubemap is the
     /// studio resampled (`environment_cubemap`, 128² faces), against `clothbake render --env
-    /// default` (the 512 × 256 equirectangular map); 64 samples per pixel on both sides, the
-    /// same sampler and Hammersley set, different maps and mip chains: measured 3.5% on satin,
+    /// default` (the 512 × 256 equirectangular map); the same sample taps on both sides,
+    /// different maps and mip chains: measured 3.5% on satin,
     /// bound 7%. The cubemap mirrored in z (Bevy's cubemaps are left-handed) measured 23%.
     Environment,
     /// clothbake's generated sky with its sun split off: in Bevy the residual's cubemap and the
