@@ -25,20 +25,21 @@ fn sampling_tap_count() -> u32 {
 
 // `SampleTaps::pick`: sample k of the `count` of a pixel whose tap nodes are `nodes`, the
 // taps k of the four nodes blended by their bilinear weights. A tap is four words: the
-// direction in snorm16 (x, y; z), log2 of the solid angle and the weight in f16.
+// direction in snorm16 (x, y; z), log2 of the solid angle in unorm16 over [−32, 4], the
+// weight in unorm16 as a fraction of the scale in the first words' y.
 fn sampling_tap(nodes: SamplingNodes, k: u32, count: u32) -> SamplingTap {
     var wi = vec3<f32>(0.0);
-    var log2_solid_angle = 0.0;
+    var size = 0.0;
     var weight = vec3<f32>(0.0);
     for (var n = 0u; n < 4u; n++) {
         let words = sampling_taps[1u + nodes.index[n] * count + k];
         let b = nodes.weight[n];
-        let z_and_size = vec2<f32>(unpack2x16snorm(words.y).x, unpack2x16float(words.y).y);
-        wi += b * vec3<f32>(unpack2x16snorm(words.x), z_and_size.x);
-        log2_solid_angle += b * z_and_size.y;
-        weight += b * vec3<f32>(unpack2x16float(words.z), unpack2x16float(words.w).x);
+        wi += b * vec3<f32>(unpack2x16snorm(words.x), unpack2x16snorm(words.y).x);
+        size += b * unpack2x16unorm(words.y).y;
+        weight += b * vec3<f32>(unpack2x16unorm(words.z), unpack2x16unorm(words.w).x);
     }
-    return SamplingTap(normalize(wi), log2_solid_angle, weight);
+    let scale = bitcast<f32>(sampling_taps[0].y);
+    return SamplingTap(normalize(wi), -32.0 + 36.0 * size, scale * weight);
 }
 
 // The mip level whose texels cover a tap's stratum, of 2^log2_solid_angle steradians, in a map

@@ -137,7 +137,7 @@ fn wgsl_pdf_is_the_cpu_pdf() {
 /// their packed taps decoded alike and blended by the same bilinear weights. The weights
 /// come from an f32 atan2 and pow on the GPU and f64 on the CPU, and the blend is
 /// continuous in them, so the two differ by that rounding times the difference between
-/// neighbouring nodes' taps: measured on lavapipe at most 4.8e-5 in the direction, 1.3e-6
+/// neighbouring nodes' taps: measured on lavapipe at most 4.8e-5 in the direction, 1.9e-6
 /// (relative) in the weight and 2.8e-4 in log2 of the solid angle (neighbouring strata can
 /// differ several-fold in size); the bounds are ten times those.
 #[test]
@@ -183,5 +183,5 @@ fn wgsl_tap_picks_are_the_cpus() {
         requests.len(),
         context.adapter
     );
-    assert!(direction < 5e-4 && weight < 1.3e-5 && size < 2.8e-3);
+    assert!(direction < 5e-4 && weight < 1.9e-5 && size < 2.8e-3);
 }
