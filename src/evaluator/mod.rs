@@ -99,8 +99,9 @@ pub trait FabricEvaluator: Send + Sync {
     }
     /// The importance sampler that fits this evaluation (a table's own, or the fabric's).
     fn sampler(&self) -> Sampler;
-    /// The environment light's sample taps for `samples` per pixel: the draws of `sampler`
-    /// (this evaluation's, [`Self::sampler`]) weighted by this evaluation's F.
+    /// The environment light's sample taps for `samples` per pixel: `samples` strata of
+    /// `sampler`'s density (this evaluation's, [`Self::sampler`]), each with this
+    /// evaluation's ∫F over it.
     fn sample_taps(&self, sampler: &Sampler, samples: u32) -> SampleTaps {
         SampleTaps::build(sampler, samples, |pairs, out| {
             out.copy_from_slice(&self.eval_batch(pairs))

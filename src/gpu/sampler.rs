@@ -130,7 +130,7 @@ impl GpuSampleTaps {
     }
 
     /// `sampling_tap` for each `(wo, k)` (wo above the horizon, k below the samples): the
-    /// tap's (wi, pdf) and (F/pdf, 0).
+    /// tap's (wi, log2 of its solid angle) and (weight, 0).
     pub fn pick(
         &self,
         context: &GpuContext,

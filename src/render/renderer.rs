@@ -291,7 +291,7 @@ impl Renderer {
 
     /// Whether frames of `settings` can be drawn: their environment samples per pixel, if
     /// any, must be those the taps of [`Renderer::set_environment`] were built for (the
-    /// taps' low-discrepancy set is a whole; a part of it would be biased).
+    /// taps are K strata that together tile the hemisphere; a part of them misses part of F).
     pub fn check_settings(&self, settings: &FrameSettings) -> Result<(), GpuError> {
         let samples = settings.environment_samples;
         if self.environment.is_some() && samples > 0 && samples != self.tap_samples {

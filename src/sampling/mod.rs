@@ -388,10 +388,14 @@ impl Sampler {
              const SAMPLING_NODE_STRIDE: u32 = {NODE_STRIDE}u;\n\
              const SAMPLING_COSINE_SHARE: f32 = {};\n\
              const SAMPLING_TAP_ELEVATIONS: u32 = {}u;\n\
-             const SAMPLING_TAP_AZIMUTHS: u32 = {}u;\n",
+             const SAMPLING_TAP_AZIMUTHS: u32 = {}u;\n\
+             const SAMPLING_TAP_LOG2_SOLID_ANGLE_LOW: f32 = {};\n\
+             const SAMPLING_TAP_LOG2_SOLID_ANGLE_SPAN: f32 = {};\n",
             wgsl_f32(COSINE_SHARE),
             taps::TAP_ELEVATIONS,
             taps::TAP_AZIMUTHS,
+            wgsl_f32(taps::LOG2_SOLID_ANGLE_LOW as f64),
+            wgsl_f32(taps::LOG2_SOLID_ANGLE_SPAN as f64),
         )
     }
 }

@@ -100,8 +100,8 @@ fn from_unorm16(bits: u32) -> f32 {
 
 /// The range of log2 of a tap's solid angle in its unorm16 word: 1e-9 to 2π steradians fit,
 /// in steps of 36/65535 (0.04% in the solid angle).
-const LOG2_SOLID_ANGLE_LOW: f32 = -32.0;
-const LOG2_SOLID_ANGLE_SPAN: f32 = 36.0;
+pub(crate) const LOG2_SOLID_ANGLE_LOW: f32 = -32.0;
+pub(crate) const LOG2_SOLID_ANGLE_SPAN: f32 = 36.0;
 
 impl Tap {
     /// The four words of the layout (module doc), the weight as a fraction of `scale` (the

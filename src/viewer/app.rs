@@ -235,8 +235,8 @@ impl App {
         };
         if let (true, Some(map)) = (self.environment_on, &g.environment) {
             if f.taps.is_none() {
-                // The environment light is the table's, whatever the mode shown: its
-                // sampler's draws weighted by the table's F.
+                // The environment light is the table's, whatever the mode shown: strata of
+                // its sampler's density, each with the table's ∫F over it.
                 let table = f
                     .entry(
                         &g.gpu,
