@@ -11,8 +11,9 @@
 // colour·I/d² for a point light (docs/model.md: a distant light of perpendicular irradiance E
 // gives L_o = E·F; F already holds every cosine), plus the environment light: its compact
 // bright sources (sun, lamps) are directional lights in the same list
-// (src/lighting/bright_sources.rs), and the rest of the map, ∫ L_residual(wi) F(wi, wo) dwi,
-// is integrated by filtered importance sampling (`render_environment_light`).
+// (src/lighting/bright_sources.rs), each set by the horizon over its disk
+// (shaders/lighting/source_disk.wgsl), and the rest of the map, ∫ L_residual(wi) F(wi, wo)
+// dwi, is integrated by filtered importance sampling (`render_environment_light`).
 // No shadows.
 //
 // Two-sided cloth: the side facing the viewer is shaded, judged by the interpolated normal
@@ -20,11 +21,12 @@
 // right-handed with y = n × t). Lights on the other side of the cloth give nothing (wi.z ≤ 0:
 // the model's one-sided patch).
 //
-// requires: brdf, sampling/sample_taps
+// requires: brdf, sampling/sample_taps, lighting/source_disk
 
 // One light: vector.w = 0: directional, vector.xyz the unit direction towards it;
 // vector.w = 1: point, vector.xyz its position. power.rgb = colour·irradiance (directional)
-// or colour·intensity (point).
+// or colour·intensity (point); power.w = sin of the angular radius of a directional
+// light's disk (an environment's source; 0 for the scene's lights).
 struct RenderLight {
     vector: vec4<f32>,
     power: vec4<f32>,
@@ -192,9 +194,9 @@ fn render_radiance(in: VertexOut) -> vec3<f32> {
             direction = d * inverseSqrt(d2);
             irradiance = irradiance / d2;
         }
-        let wi = to_local(f, direction);
-        if wi.z > 0.0 && wo.z > 0.0 {
-            sum += irradiance * cloth_brdf(wi, wo);
+        let disk = source_disk_above_horizon(to_local(f, direction), light.power.w);
+        if disk.w > 0.0 && disk.z > 0.0 && wo.z > 0.0 {
+            sum += irradiance * (disk.w * cloth_brdf(disk.xyz, wo));
         }
     }
     return sum;

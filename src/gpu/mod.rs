@@ -254,6 +254,34 @@ pub fn evaluate_pairs(
     Ok(results.into_iter().map(|v| [v[0], v[1], v[2]]).collect())
 }
 
+/// [`crate::lighting::bright_sources::disk_above_horizon`] on the device for each
+/// `(wi, sin radius)`: WGSL's `source_disk_above_horizon` (shaders/lighting/source_disk.wgsl),
+/// (centroid direction, visible fraction). For its twin test.
+pub fn disks_above_horizon(
+    context: &GpuContext,
+    requests: &[(Vec3, f32)],
+) -> Result<Vec<(Vec3, f32)>, GpuError> {
+    let source = crate::shader::Composer::new()
+        .compose(&["gpu/source_disk_pairs"])
+        .expect("the source disk kernel composes (validated in the tests)");
+    let pairs: Vec<(Vec3, Vec3)> = requests
+        .iter()
+        .map(|&(wi, sin_radius)| (wi, Vec3::new(sin_radius, 0.0, 0.0)))
+        .collect();
+    let (layout, group) = empty_bind_group(context, "source disk");
+    let results = run_pairs(
+        context,
+        (&layout, &group),
+        &source,
+        "source_disk_main",
+        &pairs,
+    )?;
+    Ok(results
+        .into_iter()
+        .map(|v| (Vec3::new(v[0], v[1], v[2]), v[3]))
+        .collect())
+}
+
 /// Runs compute entry point `entry` of `source` once per pair of 3-vectors: the pairs are
 /// `eval_pairs[2k]`, `eval_pairs[2k + 1]` and the results `eval_results[k]` (vec4) in
 /// @group(1) as `shaders/gpu/eval_pairs.wgsl` declares them; `group0` is bound at @group(0).

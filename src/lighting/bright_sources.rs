@@ -32,7 +32,7 @@
 //! those that carry at least [`MIN_SOURCE_SHARE`] of the map's power; the others stay in the
 //! residual.
 
-use glam::{DVec2, DVec3};
+use glam::{DVec2, DVec3, Vec3};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -65,6 +65,11 @@ pub struct DistantSource {
     pub irradiance: DVec3,
     /// Largest angle from `direction` to a texel of it (centre plus half a texel), radians.
     pub angular_radius: f64,
+    /// Radius of the uniform disk with the source's spread, radians: `√(2·⟨θ²⟩)`, θ the
+    /// angle of a texel from `direction` weighted by its excess (a uniform disk of radius
+    /// r has ⟨θ²⟩ = r²/2). The renderer sets the source over this disk at the horizon
+    /// ([`disk_above_horizon`]).
+    pub disk_radius: f64,
     /// The same light as at most [`MAX_PARTS`] pieces, `(direction, irradiance)`: its texels
     /// gathered in blocks of 2ᵏ×2ᵏ, each at its own centroid. Their irradiances sum to
     /// `irradiance`; a reference integrates F over the source's extent with them.
@@ -176,6 +181,13 @@ fn source_of(level: &Level, region: &Region) -> DistantSource {
         .map(|e| e.1.dot(direction).clamp(-1.0, 1.0).acos())
         .fold(0.0, f64::max)
         + half_texel;
+    let total_weight: f64 = excess.iter().map(|e| e.3).sum();
+    let mean_square_angle = excess
+        .iter()
+        .map(|e| e.3 * e.1.dot(direction).clamp(-1.0, 1.0).acos().powi(2))
+        .sum::<f64>()
+        / total_weight.max(f64::MIN_POSITIVE);
+    let disk_radius = (2.0 * mean_square_angle).sqrt();
     // The smallest blocks of 2ᵏ×2ᵏ texels that leave at most MAX_PARTS pieces (a block that
     // straddles the seam is two pieces, which only happens once blocks are large), in the
     // blocks' order, so that the parts are the same on every run.
@@ -201,6 +213,7 @@ fn source_of(level: &Level, region: &Region) -> DistantSource {
         direction,
         irradiance,
         angular_radius,
+        disk_radius,
         parts,
     }
 }
@@ -283,6 +296,43 @@ impl Environment {
             sources: found.into_iter().map(|(_, source)| source).collect(),
         }
     }
+}
+
+/// The part of a source's disk above the local horizon, for a source lit as one directional
+/// light: its centre in direction `wi` (unit, local frame, z the normal), its angular radius
+/// r given as `sin_radius`. Returns the direction of the visible part's centroid and the
+/// visible fraction of the disk's solid angle; the source then gives
+/// `fraction · E · F(centroid, wo)`. Lit at its centre alone, a source would go out at once
+/// as its centre sets; the reference, which integrates the disk, sees it set over its
+/// diameter (a 1.9° lamp across a fold of velvet).
+///
+/// Derivation, for r of a few degrees: in the disk's tangent plane, with y the offset
+/// towards the zenith in units of r, a point of the disk is at elevation h + r·y (h the
+/// centre's elevation), so the horizon cuts the unit disk at y = −d, d = h/r. The part
+/// above is the circular segment y > −d: area A = π − acos d + d·√(1 − d²), so the
+/// fraction is A/π, and centroid ȳ = ⅔·(1 − d²)^{3/2} / A. F grows about linearly with
+/// elevation over a few degrees, so its mean over the segment is F at elevation
+/// h + r·ȳ = r·(d + ȳ), at the centre's azimuth.
+///
+/// Twin of `source_disk_above_horizon` (shaders/lighting/source_disk.wgsl).
+pub fn disk_above_horizon(wi: Vec3, sin_radius: f32) -> (Vec3, f32) {
+    if wi.z >= sin_radius {
+        return (wi, 1.0);
+    }
+    if wi.z <= -sin_radius {
+        return (wi, 0.0);
+    }
+    let radius = sin_radius.asin();
+    let d = (wi.z.asin() / radius).clamp(-1.0, 1.0);
+    let s = (1.0 - d * d).max(0.0).sqrt();
+    let area = std::f32::consts::PI - d.acos() + d * s;
+    let centroid = (2.0 / 3.0) * s * s * s / area.max(1e-12);
+    let elevation = radius * (d + centroid);
+    let horizontal = wi.truncate() / wi.truncate().length().max(1e-12);
+    (
+        (horizontal * elevation.cos()).extend(elevation.sin()),
+        area / std::f32::consts::PI,
+    )
 }
 
 impl std::fmt::Display for SplitEnvironment {

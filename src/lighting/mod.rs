@@ -11,7 +11,7 @@ pub mod sky;
 mod source;
 mod studio;
 
-pub use bright_sources::{DistantSource, SplitEnvironment};
+pub use bright_sources::{DistantSource, SplitEnvironment, disk_above_horizon};
 pub use environment::{
     ClampedNegatives, ContentError, Environment, EnvironmentError, MAX_SIDE, MAX_TEXELS,
     equirect_direction, equirect_uv,

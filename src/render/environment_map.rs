@@ -4,10 +4,10 @@
 //! shaders/render/renderer.wgsl): that texture, its trilinear sampler and the fabric's
 //! sample taps ([`crate::gpu::GpuSampleTaps`]) that filtered importance sampling reads.
 
-use super::LightSource;
 use crate::gpu::sampler::sampler_entry;
 use crate::gpu::{GpuContext, GpuError, GpuSampleTaps};
 use crate::lighting::{Environment, SplitEnvironment};
+use glam::Vec3;
 use half::f16;
 
 /// Largest f16 value: brighter texels (the sun of a captured sky) are clamped to it.
@@ -22,7 +22,19 @@ pub type EnvironmentDimensions = [u32; 3];
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct EnvironmentFrame {
     pub dimensions: EnvironmentDimensions,
-    pub sources: Vec<LightSource>,
+    pub sources: Vec<SourceLight>,
+}
+
+/// A bright source of the environment as the frame lights it: a directional light that the
+/// horizon sets over its disk ([`crate::lighting::disk_above_horizon`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SourceLight {
+    /// Unit direction towards its centre, in the map's frame (before the frame's turn).
+    pub direction: Vec3,
+    /// RGB perpendicular irradiance.
+    pub irradiance: Vec3,
+    /// sin of its disk's angular radius ([`crate::lighting::DistantSource::disk_radius`]).
+    pub sin_radius: f32,
 }
 
 /// An environment map uploaded for rendering: its mip chain, and the sources taken out of it.
@@ -116,9 +128,10 @@ impl GpuEnvironment {
         environment.frame.sources = split
             .sources
             .iter()
-            .map(|source| LightSource::Directional {
+            .map(|source| SourceLight {
                 direction: source.direction.as_vec3(),
                 irradiance: source.irradiance.as_vec3(),
+                sin_radius: source.disk_radius.sin() as f32,
             })
             .collect();
         Ok(environment)

@@ -97,21 +97,9 @@ impl FrameUniform {
         let mut lights = [LightUniform::default(); FRAME_LIGHTS];
         let count = scene_lights.len() + sources.len();
         let turn = glam::Quat::from_rotation_y(settings.environment_rotation);
-        let turned = sources.iter().map(|source| match *source {
-            LightSource::Directional {
-                direction,
-                irradiance,
-            } => LightSource::Directional {
-                direction: turn * direction,
-                irradiance,
-            },
-            point => point,
-        });
-        for (slot, light) in lights
-            .iter_mut()
-            .zip(scene_lights.iter().copied().chain(turned))
-        {
-            *slot = match light {
+        let uniforms = scene_lights
+            .iter()
+            .map(|light| match *light {
                 LightSource::Directional {
                     direction,
                     irradiance,
@@ -126,7 +114,13 @@ impl FrameUniform {
                     vector: position.extend(1.0).to_array(),
                     power: intensity.extend(0.0).to_array(),
                 },
-            };
+            })
+            .chain(sources.iter().map(|source| LightUniform {
+                vector: (turn * source.direction).extend(0.0).to_array(),
+                power: source.irradiance.extend(source.sin_radius).to_array(),
+            }));
+        for (slot, uniform) in lights.iter_mut().zip(uniforms) {
+            *slot = uniform;
         }
         let view_proj = settings.camera.view_proj(aspect);
         Self {

@@ -67,10 +67,13 @@ shader_files![
     "gpu/eval_pairs",
     "gpu/sampler_pairs",
     "gpu/tap_pairs",
+    "gpu/source_disk_pairs",
     // The fabric sampler and the environment light's taps (src/sampling/).
     "sampling/grid",
     "sampling/fabric_sampler",
     "sampling/sample_taps",
+    // Distant light: a bright source set by the horizon (src/lighting/bright_sources.rs).
+    "lighting/source_disk",
     // The render pass (src/render/renderer.rs).
     "render/renderer",
 ];

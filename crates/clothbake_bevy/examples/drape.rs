@@ -271,8 +271,8 @@ fn environment_light(
     };
     let split = map.split_bright_sources(MAX_SOURCES);
     println!("drape: environment {source}: {split}");
-    for (light, transform) in source_lights(&split) {
-        commands.spawn((light, transform, SourceLight));
+    for (light, disk, transform) in source_lights(&split) {
+        commands.spawn((light, disk, transform, SourceLight));
     }
     let cubemap = images.add(environment_cubemap(&split.residual, 128));
     let light = EnvironmentMapLight {

@@ -9,14 +9,15 @@
 // Per fragment, as `clothbake render` (shaders/render/renderer.wgsl): the thread frame (t = thread 1
 // along the mesh's UV tangent, b = n × t, n), flipped to the side facing the viewer (two-sided
 // cloth); wi and wo in that frame; radiance L = Σ E·F(wi, wo)·shadow over Bevy's directional
-// and point lights, plus the ambient light L_a times the directional albedo ∫F dwi at wo (exact
+// and point lights (a directional light set by the horizon over its `SunDisk`, as `clothbake
+// render` sets an environment's sources: shaders/lighting/source_disk.wgsl), plus the ambient light L_a times the directional albedo ∫F dwi at wo (exact
 // for a uniform ambient radiance), plus the view's environment map light by filtered
 // importance sampling through the fabric's sample taps, as `clothbake render` does. E in Bevy's
 // units: a directional light's illuminance (lux), a point light's luminous intensity
 // (power/4π) times Bevy's inverse-square falloff with its range window. Then the camera's
 // exposure, and tone mapping where Bevy does it in the shader.
 //
-// requires: brdf, sampling/sample_taps
+// requires: brdf, sampling/sample_taps, lighting/source_disk
 
 #import bevy_pbr::{
     forward_io::VertexOutput,
@@ -145,15 +146,21 @@ fn fragment(in: VertexOutput) -> @location(0) vec4<f32> {
     for (var i = 0u; i < view_bindings::lights.n_directional_lights; i++) {
         let light = &view_bindings::lights.directional_lights[i];
         let l = (*light).direction_to_light.xyz;
-        let wi = vec3<f32>(dot(l, t), dot(l, b), dot(l, n));
-        if wi.z <= 0.0 || wo.z <= 0.0 {
+        // Bevy's `SunDisk` gives the disk's angular diameter (`SunDisk::EARTH`, the sun's,
+        // for a light without one).
+        let disk = source_disk_above_horizon(
+            vec3<f32>(dot(l, t), dot(l, b), dot(l, n)),
+            sin(0.5 * (*light).sun_disk_angular_size),
+        );
+        let wi = disk.xyz;
+        if disk.w <= 0.0 || wi.z <= 0.0 || wo.z <= 0.0 {
             continue;
         }
         var shadow = 1.0;
         if ((*light).flags & mesh_view_types::DIRECTIONAL_LIGHT_FLAGS_SHADOWS_ENABLED_BIT) != 0u {
             shadow = shadows::fetch_directional_shadow(i, in.world_position, n, view_z, in.position.xy);
         }
-        radiance += (*light).color.rgb * cloth_brdf(wi, wo) * shadow;
+        radiance += (*light).color.rgb * (disk.w * cloth_brdf(wi, wo)) * shadow;
     }
 
     let cluster_index = clustering::view_fragment_cluster_index(in.position.xy, view_z, is_orthographic);

@@ -1,5 +1,6 @@
 //! clothbake scene lights as Bevy lights.
 
+use bevy::light::SunDisk;
 use bevy::prelude::*;
 use clothbake::lighting::SplitEnvironment;
 use clothbake::scene::Light;
@@ -58,8 +59,11 @@ pub fn scene_light(light: &Light) -> SceneLight {
 /// `Environment::split_bright_sources`) as Bevy directional lights in the units of
 /// [`scene_light`], without shadows. Light the view with them and with the split's residual as
 /// the `EnvironmentMapLight` ([`crate::environment_cubemap`] of `split.residual`), as
-/// `clothbake render` does: the residual is sampled, the sources are looked up once each.
-pub fn source_lights(split: &SplitEnvironment) -> Vec<(DirectionalLight, Transform)> {
+/// `clothbake render` does: the residual is sampled, the sources are looked up once each,
+/// each set by the horizon over its disk, which its `SunDisk` carries (angular diameter
+/// twice `DistantSource::disk_radius`; intensity 0, so that an `Atmosphere` does not draw it
+/// again over the map that holds it).
+pub fn source_lights(split: &SplitEnvironment) -> Vec<(DirectionalLight, SunDisk, Transform)> {
     split
         .sources
         .iter()
@@ -76,7 +80,15 @@ pub fn source_lights(split: &SplitEnvironment) -> Vec<(DirectionalLight, Transfo
             };
             // clothbake's glam is not Bevy's: through an array.
             let towards = Vec3::from_array(source.direction.as_vec3().to_array());
-            (light, Transform::default().looking_to(-towards, Vec3::Y))
+            let disk = SunDisk {
+                angular_size: 2.0 * source.disk_radius as f32,
+                intensity: 0.0,
+            };
+            (
+                light,
+                disk,
+                Transform::default().looking_to(-towards, Vec3::Y),
+            )
         })
         .collect()
 }
