@@ -234,11 +234,12 @@ fn setup(
     // The scene's lights, casting shadows.
     for light in &scene.lights {
         match scene_light(light) {
-            SceneLight::Directional(mut light, transform) => {
+            SceneLight::Directional(mut light, disk, transform) => {
                 light.shadow_maps_enabled = true;
                 let d = transform.back();
                 commands.spawn((
                     light,
+                    disk,
                     transform,
                     MovingLight {
                         running: true,

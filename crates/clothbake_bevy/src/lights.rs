@@ -6,8 +6,12 @@ use clothbake::lighting::SplitEnvironment;
 use clothbake::scene::Light;
 
 /// A clothbake scene light ([`clothbake::scene::Light`]) as a Bevy light and its transform.
+/// A directional one comes with [`SunDisk::OFF`]: clothbake's scene lights are exact
+/// directions, while the material sets a directional light over its `SunDisk` at the horizon,
+/// and Bevy gives a light without one the sun's (0.53°; velvet's terminator moves the image by
+/// 0.5% between the two).
 pub enum SceneLight {
-    Directional(DirectionalLight, Transform),
+    Directional(DirectionalLight, SunDisk, Transform),
     Point(PointLight, Transform),
 }
 
@@ -35,6 +39,7 @@ pub fn scene_light(light: &Light) -> SceneLight {
                 shadow_maps_enabled: false,
                 ..default()
             },
+            SunDisk::OFF,
             Transform::default().looking_to(-vector(direction).normalize(), Vec3::Y),
         ),
         Light::Point {

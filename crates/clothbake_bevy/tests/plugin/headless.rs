@@ -359,8 +359,8 @@ fn bevy_render(scene: &Scene, tables: &Path, case: &'static Case) -> (Vec<[f32; 
                     )
                 });
                 match light.map(scene_light) {
-                    Some(SceneLight::Directional(light, transform)) => {
-                        commands.spawn((light, transform));
+                    Some(SceneLight::Directional(light, disk, transform)) => {
+                        commands.spawn((light, disk, transform));
                     }
                     Some(SceneLight::Point(light, transform)) => {
                         commands.spawn((light, transform));
