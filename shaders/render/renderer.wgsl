@@ -150,9 +150,10 @@ fn render_environment_uv(world: vec3<f32>, turn: vec2<f32>) -> vec2<f32> {
 // times the map filtered over it (src/sampling/taps.rs: the strata for a grid of wo,
 // computed once per fabric and shared by every pixel, so the error is a smooth bias rather
 // than noise): one fetch per stratum, in the direction of F's centroid in it, at the mip
-// level whose texels cover its solid angle Ωs, lod = ½·log2(Ωs/Ωp) (`sampling_lod`), as
-// filtered importance sampling does (Colbert and Křivánek, GPU Gems 3, ch. 20);
-// Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the tap's polar angle θ.
+// level whose bilinear fetch blurs the map about as the stratum's mean does,
+// lod = ½·log2(Ωs/Ωp) − ½ for a stratum of solid angle Ωs (`sampling_lod`, which derives it
+// from filtered importance sampling's ½·log2(Ωs/Ωp), Colbert and Křivánek, GPU Gems 3,
+// ch. 20); Ωp = (2π/W)(π/H)·sin θ a level-0 texel at the tap's polar angle θ.
 fn render_environment_light(f: ShadingFrame, wo: vec3<f32>) -> vec3<f32> {
     let turn = render_environment_turn();
     let count = render_frame.counts.y;

@@ -130,7 +130,7 @@ mod runtime {
         #[arg(long, value_parser = parse_environment)]
         env: Option<EnvironmentSource>,
         /// Filtered importance samples per pixel of the environment light (default: the
-        /// scene's, 64 in the built-in scene).
+        /// scene's, 96 in the built-in scene).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_ENVIRONMENT_SAMPLES as i64))]
         env_samples: Option<u32>,
         /// Most compact bright sources (sun, lamps) of the environment lit as directional

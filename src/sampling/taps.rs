@@ -157,7 +157,6 @@ impl SampleTaps {
         f: impl Fn(&[(DVec3, DVec3)], &mut [DVec3]) + Sync,
     ) -> Self {
         let order = curve_order();
-        let per_stratum = points_per_stratum(samples);
         let taps: Vec<Vec<Tap>> = (0..TAP_NODES)
             .into_par_iter()
             .map(|n| {
@@ -166,21 +165,7 @@ impl SampleTaps {
                     grid_elevation(i, TAP_ELEVATIONS),
                     j as f64 * TAU / TAP_AZIMUTHS as f64,
                 );
-                let density = CurveDensity::new(sampler, wo, &order);
-                let count = samples as usize * per_stratum;
-                let points: Vec<(DVec3, f64)> = (0..count)
-                    .map(|p| density.point((p as f64 + 0.5) / count as f64))
-                    .collect();
-                let pairs: Vec<(DVec3, DVec3)> = points.iter().map(|&(wi, _)| (wi, wo)).collect();
-                let mut values = vec![DVec3::ZERO; pairs.len()];
-                f(&pairs, &mut values);
-                let solid_angles = density.strata_solid_angles(samples as usize);
-                points
-                    .chunks(per_stratum)
-                    .zip(values.chunks(per_stratum))
-                    .zip(solid_angles)
-                    .map(|((points, values), solid_angle)| stratum_tap(points, values, solid_angle))
-                    .collect::<Vec<Tap>>()
+                strata_taps(sampler, &order, samples, wo, &f)
             })
             .collect();
         let scale = taps
@@ -243,6 +228,33 @@ impl SampleTaps {
         sum.wi = sum.wi.normalize();
         sum
     }
+}
+
+/// The taps of one node: the `samples` strata of `sampler`'s density at `wo` along the curve
+/// `order`, F at their points from `f`.
+fn strata_taps(
+    sampler: &Sampler,
+    order: &[(usize, usize)],
+    samples: u32,
+    wo: DVec3,
+    f: &impl Fn(&[(DVec3, DVec3)], &mut [DVec3]),
+) -> Vec<Tap> {
+    let per_stratum = points_per_stratum(samples);
+    let density = CurveDensity::new(sampler, wo, order);
+    let count = samples as usize * per_stratum;
+    let points: Vec<(DVec3, f64)> = (0..count)
+        .map(|p| density.point((p as f64 + 0.5) / count as f64))
+        .collect();
+    let pairs: Vec<(DVec3, DVec3)> = points.iter().map(|&(wi, _)| (wi, wo)).collect();
+    let mut values = vec![DVec3::ZERO; pairs.len()];
+    f(&pairs, &mut values);
+    let solid_angles = density.strata_solid_angles(samples as usize);
+    points
+        .chunks(per_stratum)
+        .zip(values.chunks(per_stratum))
+        .zip(solid_angles)
+        .map(|((points, values), solid_angle)| stratum_tap(points, values, solid_angle))
+        .collect()
 }
 
 /// Cell (row, column) of the sampler's grid at each position along the curve that orders

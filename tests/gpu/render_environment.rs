@@ -206,12 +206,12 @@ fn white_furnace_gives_the_directional_albedo() {
 /// `studio_render_approaches_the_cpu_reference` is each plus a quarter (the GPU side is
 /// deterministic on one device; the reference's own noise, ~0.8%, is fixed by its seeds).
 const STUDIO_ERROR: [(&str, f64); 6] = [
-    ("linen_plain", 0.0193),
-    ("silk_crepe_de_chine", 0.0224),
-    ("polyester_satin_charmeuse", 0.0252),
-    ("polyester_satin_charmeuse_back", 0.0254),
-    ("silk_shot", 0.0286),
-    ("velvet", 0.0316),
+    ("linen_plain", 0.0184),
+    ("silk_crepe_de_chine", 0.0203),
+    ("polyester_satin_charmeuse", 0.0226),
+    ("polyester_satin_charmeuse_back", 0.0232),
+    ("silk_shot", 0.0255),
+    ("velvet", 0.0226),
 ];
 
 #[test]
@@ -255,15 +255,15 @@ fn studio_render_approaches_the_cpu_reference() {
 /// (same table, 256 MIS samples per pixel on the residual, the sun by its texel blocks), per
 /// fabric on lavapipe: with the sun lit as a light, and with the whole map sampled. The bound
 /// of `the_sun_as_a_light_brings_the_sky_to_the_reference` is the first plus a quarter, and
-/// the sun as a light must keep at least a factor 4 over sampling it (measured 13–15). The
+/// the sun as a light must keep at least a factor 4 over sampling it (measured 17–23). The
 /// sun is set by the horizon over its disk; lit at its centre alone, velvet read 3.26%.
 const SKY_ERROR: [(&str, f64, f64); 6] = [
-    ("linen_plain", 0.0076, 0.1057),
-    ("silk_crepe_de_chine", 0.0093, 0.1330),
-    ("polyester_satin_charmeuse", 0.0103, 0.1393),
-    ("polyester_satin_charmeuse_back", 0.0099, 0.1321),
-    ("silk_shot", 0.0099, 0.1337),
-    ("velvet", 0.0142, 0.2096),
+    ("linen_plain", 0.0091, 0.1924),
+    ("silk_crepe_de_chine", 0.0109, 0.2521),
+    ("polyester_satin_charmeuse", 0.0113, 0.2407),
+    ("polyester_satin_charmeuse_back", 0.0108, 0.2331),
+    ("silk_shot", 0.0110, 0.2519),
+    ("velvet", 0.0141, 0.2983),
 ];
 
 #[test]
@@ -315,9 +315,9 @@ fn a_turned_sky_lights_the_cloth_as_the_reference_turns_it() {
     // (turned on the CPU) and the reference's draws: turned by 100°, the sun comes from
     // behind-left and the render must still match the reference turned alike, as closely as
     // unturned (velvet, the worst fabric under the sky: 1.4% unturned). Measured on
-    // lavapipe: 0.91% against the turned reference, 120% against the unturned one; the bound
+    // lavapipe: 1.01% against the turned reference, 120% against the unturned one; the bound
     // is the first plus a quarter, as the other environment tests'.
-    const TURNED_ERROR: f64 = 0.0091;
+    const TURNED_ERROR: f64 = 0.0101;
     let context = gpu_context();
     let map = GeneratedEnvironment::Sky.environment();
     let fabric = builtin()

@@ -71,10 +71,10 @@ fn cloth_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
 // ∫ L_env(wi) F(wi, wo) dwi over the view's environment map light by filtered importance
 // sampling (shaders/render/renderer.wgsl's `render_environment_light`, on a cubemap): the K
 // sample taps of the tap nodes around wo (each a stratum of the fabric's sampler: its weight
-// K·∫F dwi, read in the direction of F's centroid), each at the mip level whose texels cover
-// the stratum's solid angle (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a W × W face. Bevy's maps are
-// prefiltered for GGX roughness rather than box-filtered, so their coarser levels blur more
-// than the lod assumes.
+// K·∫F dwi, read in the direction of F's centroid), each at the mip level that blurs the map
+// about as the stratum's mean does (`sampling_lod`), Ωp = 4π/(6W²) the mean texel of a W × W
+// face. Bevy's maps are prefiltered for GGX roughness rather than box-filtered, so their
+// coarser levels blur more than the lod assumes.
 fn cloth_environment_light(t: vec3<f32>, b: vec3<f32>, n: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     let probes = view_bindings::light_probes;
     if probes.view_cubemap_index < 0 {
