@@ -56,14 +56,15 @@ enum Lighting {
     /// clothbake's studio environment: in Bevy an `EnvironmentMapLight` whose cubemap is the
     /// studio resampled (`environment_cubemap`, 128² faces), against `clothbake render --env
     /// default` (the 512 × 256 equirectangular map); the same sample taps on both sides,
-    /// different maps and mip chains: measured 2.1% on satin,
-    /// bound 4.3%. The cubemap mirrored in z (Bevy's cubemaps are left-handed) measured 23%.
+    /// different maps and mip chains: measured 1.3% on satin (2.1% before the taps' fetch
+    /// was taken half a level sharper), bound 2.6%, twice that. The cubemap mirrored in z
+    /// (Bevy's cubemaps are left-handed) measured 23%.
     Environment,
     /// clothbake's generated sky with its sun split off: in Bevy the residual's cubemap and the
     /// sun as a directional light (`source_lights`), against `clothbake render --env sky`,
     /// which splits it the same way. The sun is the same lookup on both sides (as a
     /// directional light: 0.2%); the residual sky differs as the studio does, by the maps and
-    /// their mip chains, in proportion to its share of the image: measured 0.39% on satin,
+    /// their mip chains, in proportion to its share of the image: measured 0.40% on satin,
     /// bound 0.8% (twice, as the studio's). A sun left out, turned, or in other units (its
     /// colour not normalised) moves the image by tens of per cent: it carries about 40% of
     /// the light.
@@ -111,7 +112,7 @@ const CASES: [Case; 6] = [
     Case {
         fabric: "polyester_satin_charmeuse",
         lighting: Lighting::Environment,
-        bound: 0.043,
+        bound: 0.026,
     },
     Case {
         fabric: "polyester_satin_charmeuse",
