@@ -90,7 +90,11 @@ pub struct Sampler {
 
 /// z = sin(elevation) at the lower edge of row `r` (r = ROWS: the normal).
 fn row_z(r: usize) -> f64 {
-    (r as f64 * FRAC_PI_2 / ROWS as f64).sin()
+    // Computed once: the taps' build asks for row boundaries hundreds of millions of times.
+    static ROW_Z: std::sync::LazyLock<[f64; ROWS + 1]> = std::sync::LazyLock::new(|| {
+        std::array::from_fn(|r| (r as f64 * FRAC_PI_2 / ROWS as f64).sin())
+    });
+    ROW_Z[r]
 }
 
 /// The solid angle of one cell of row `r`: (z_{r+1} − z_r)·2π/C.
