@@ -3,19 +3,21 @@
 // clothbake's composer (`clothbake::shader::Composer`) writes this file after what it requires
 // below: the table's specialised lookup (the module `brdf` of
 // `clothbake::table::wgsl::lookup_composer`: `cloth_brdf(wi, wo)` = F(wi, wo) of
-// docs/model.md, its textures and sampler in the material's bind group) and the environment
-// light's sample taps (shaders/sampling/sample_taps.wgsl of clothbake, with its constants).
+// docs/model.md, its textures and sampler in the material's bind group), the environment
+// light's sample taps (shaders/sampling/sample_taps.wgsl of clothbake, with its constants) and
+// a directional light's disk at the horizon (shaders/lighting/source_disk.wgsl).
 //
 // Per fragment, as `clothbake render` (shaders/render/renderer.wgsl): the thread frame (t = thread 1
 // along the mesh's UV tangent, b = n × t, n), flipped to the side facing the viewer (two-sided
 // cloth); wi and wo in that frame; radiance L = Σ E·F(wi, wo)·shadow over Bevy's directional
 // and point lights (a directional light set by the horizon over its `SunDisk`, as `clothbake
-// render` sets an environment's sources: shaders/lighting/source_disk.wgsl), plus the ambient light L_a times the directional albedo ∫F dwi at wo (exact
-// for a uniform ambient radiance), plus the view's environment map light by filtered
-// importance sampling through the fabric's sample taps, as `clothbake render` does. E in Bevy's
-// units: a directional light's illuminance (lux), a point light's luminous intensity
-// (power/4π) times Bevy's inverse-square falloff with its range window. Then the camera's
-// exposure, and tone mapping where Bevy does it in the shader.
+// render` sets an environment's sources: shaders/lighting/source_disk.wgsl), plus the ambient
+// light L_a times the directional albedo ∫F dwi at wo (exact for a uniform ambient radiance),
+// plus the view's environment map light by filtered importance sampling through the fabric's
+// sample taps, as `clothbake render` does. E in Bevy's units: a directional light's illuminance
+// (lux), a point light's luminous intensity (power/4π) times Bevy's inverse-square falloff with
+// its range window. Then the camera's exposure, and tone mapping where Bevy does it in the
+// shader.
 //
 // requires: brdf, sampling/sample_taps, lighting/source_disk
 
