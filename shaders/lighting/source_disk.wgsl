@@ -3,7 +3,9 @@
 // the derivation is): the source's centre in direction `wi` (unit, local frame, z the
 // normal), its angular radius r given as `sin_radius`. Returns (the visible part's centroid
 // direction, the visible fraction of the disk): the source gives fraction·E·F(centroid, wo).
-// With sin_radius = 0 it is a plain directional light: (wi, 1) above the horizon, 0 below.
+// The centroid is above the horizon (z > 0) only where some of the disk is (the fraction is
+// then positive), so a caller tests its z alone. With sin_radius = 0 it is a plain directional light: (wi, 1) above the
+// horizon, 0 below.
 
 fn source_disk_above_horizon(wi: vec3<f32>, sin_radius: f32) -> vec4<f32> {
     if wi.z >= sin_radius {

@@ -196,7 +196,7 @@ fn render_radiance(in: VertexOut) -> vec3<f32> {
             irradiance = irradiance / d2;
         }
         let disk = source_disk_above_horizon(to_local(f, direction), light.power.w);
-        if disk.w > 0.0 && disk.z > 0.0 && wo.z > 0.0 {
+        if disk.z > 0.0 && wo.z > 0.0 {
             sum += irradiance * (disk.w * cloth_brdf(disk.xyz, wo));
         }
     }

@@ -176,17 +176,16 @@ fn source_of(level: &Level, region: &Region) -> DistantSource {
         .normalize_or(DVec3::Y);
     // Half a texel's diagonal at the equator: the angle a texel's centre can be off its edge.
     let half_texel = 0.5 * (PI / level.height() as f64) * 2f64.sqrt();
-    let angular_radius = excess
+    // Each texel's angle from the centroid, and its weight.
+    let angles: Vec<(f64, f64)> = excess
         .iter()
-        .map(|e| e.1.dot(direction).clamp(-1.0, 1.0).acos())
-        .fold(0.0, f64::max)
-        + half_texel;
-    let total_weight: f64 = excess.iter().map(|e| e.3).sum();
-    let mean_square_angle = excess
-        .iter()
-        .map(|e| e.3 * e.1.dot(direction).clamp(-1.0, 1.0).acos().powi(2))
-        .sum::<f64>()
-        / total_weight.max(f64::MIN_POSITIVE);
+        .map(|e| (e.1.dot(direction).clamp(-1.0, 1.0).acos(), e.3))
+        .collect();
+    let angular_radius = angles.iter().map(|a| a.0).fold(0.0, f64::max) + half_texel;
+    let (moment, total_weight) = angles.iter().fold((0.0, 0.0), |(m, t), &(angle, w)| {
+        (m + w * angle * angle, t + w)
+    });
+    let mean_square_angle = moment / f64::max(total_weight, f64::MIN_POSITIVE);
     let disk_radius = (2.0 * mean_square_angle).sqrt();
     // The smallest blocks of 2ᵏ×2ᵏ texels that leave at most MAX_PARTS pieces (a block that
     // straddles the seam is two pieces, which only happens once blocks are large), in the

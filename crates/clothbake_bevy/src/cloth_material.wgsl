@@ -155,7 +155,7 @@ fn fragment(in: VertexOutput) -> @location(0) vec4<f32> {
             sin(0.5 * (*light).sun_disk_angular_size),
         );
         let wi = disk.xyz;
-        if disk.w <= 0.0 || wi.z <= 0.0 || wo.z <= 0.0 {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
             continue;
         }
         var shadow = 1.0;
