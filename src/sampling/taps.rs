@@ -45,9 +45,16 @@
 //! does. (Picking one node per k instead, which reads a quarter as much, measured 0.3–1.0
 //! point higher at K = 128: the picked strata overlap and leave holes.)
 //!
+//! # Weights matched to F's moments
+//! A fetch reads the map blurred over about its stratum, which moves light from F's peak to
+//! its flanks. So each node's weights are then moved, as little as their size allows, until
+//! the blurred taps have F's spherical-harmonic moments up to order 8
+//! ([`super::moments`], which derives it): the estimate becomes exact for maps of that band.
+//!
 //! Built from any batched evaluation of F, in parallel over nodes, each node alone: the taps
 //! do not depend on the thread count.
 
+use super::moments::{MOMENT_ORDER, ShBasis, match_moments};
 use super::row_z;
 use super::{AZIMUTH_NODES, ELEVATION_NODES, Sampler, direction, grid_elevation, grid_nodes};
 use super::{COLUMNS, COSINE_SHARE, ROWS, cell_solid_angle, direction_at_z, node_weights};
@@ -248,13 +255,23 @@ fn strata_taps(
     let pairs: Vec<(DVec3, DVec3)> = points.iter().map(|&(wi, _)| (wi, wo)).collect();
     let mut values = vec![DVec3::ZERO; pairs.len()];
     f(&pairs, &mut values);
+    for value in &mut values {
+        *value = if value.is_finite() {
+            value.max(DVec3::ZERO)
+        } else {
+            DVec3::ZERO
+        };
+    }
     let solid_angles = density.strata_solid_angles(samples as usize);
-    points
+    let mut taps: Vec<Tap> = points
         .chunks(per_stratum)
         .zip(values.chunks(per_stratum))
         .zip(solid_angles)
         .map(|((points, values), solid_angle)| stratum_tap(points, values, solid_angle))
-        .collect()
+        .collect();
+    let basis = &*MOMENT_BASIS;
+    match_moments(basis, &mut taps, &basis.moments(&points, &values));
+    taps
 }
 
 /// Cell (row, column) of the sampler's grid at each position along the curve that orders
@@ -398,18 +415,17 @@ fn points_per_stratum(samples: u32) -> usize {
     (POINTS_PER_NODE / samples.max(1) as usize).max(1)
 }
 
-/// One stratum's tap from F's `values` at its `points` (wi and the density there, spaced
+/// The basis of the moments the taps' weights match ([`match_moments`]).
+static MOMENT_BASIS: std::sync::LazyLock<ShBasis> =
+    std::sync::LazyLock::new(|| ShBasis::new(MOMENT_ORDER));
+
+/// One stratum's tap from F's `values` (finite, non-negative) at its `points` (wi and the density there, spaced
 /// evenly in probability) and its `solid_angle`: the weight K·∫F dwi over the stratum (each
 /// point stands for 1/(K·points) of the probability, so K·∫F is the mean of F/pdf), the
 /// direction of F's centroid in it.
 fn stratum_tap(points: &[(DVec3, f64)], values: &[DVec3], solid_angle: f64) -> Tap {
     let (mut weight, mut centroid, mut spread) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for (&(wi, pdf), &value) in points.iter().zip(values) {
-        let value = if value.is_finite() {
-            value.max(DVec3::ZERO)
-        } else {
-            DVec3::ZERO
-        };
         weight += value / pdf;
         centroid += wi * (value.element_sum() / pdf);
         spread += wi / pdf;

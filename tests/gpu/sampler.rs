@@ -167,21 +167,26 @@ fn wgsl_tap_picks_are_the_cpus() {
         })
         .collect();
     let picked = gpu.pick(&context, &requests).unwrap();
+    // Weights are compared against the taps' largest (the header's scale): the blend of four
+    // nodes in f32 errs by a few ulps of its largest term, and the weights matched to F's
+    // moments can differ a thousandfold between neighbouring nodes, so an error relative to
+    // a small blended weight measures the nodes' contrast rather than the twins. Measured
+    // 4.5e-5 on lavapipe (satin); bound 1e-4.
+    let scale = f32::from_bits(taps.words()[1]);
     let (mut direction, mut weight, mut size) = (0.0f32, 0.0f32, 0.0f32);
     for (&(wo, k), [draw, w]) in requests.iter().zip(&picked) {
         let cpu = taps.pick(wo.as_dvec3(), k);
         direction = direction.max((Vec3::new(draw[0], draw[1], draw[2]) - cpu.wi).length());
         size = size.max((draw[3] - cpu.log2_solid_angle).abs());
-        let relative =
-            (Vec3::new(w[0], w[1], w[2]) - cpu.weight).abs() / cpu.weight.max(Vec3::splat(1e-6));
+        let relative = (Vec3::new(w[0], w[1], w[2]) - cpu.weight).abs() / scale;
         weight = weight.max(relative.max_element());
     }
     println!(
         "{}: {} taps on {}, largest differences from the CPU's: direction {direction:.1e}, \
-         weight {weight:.1e} (relative), log2 solid angle {size:.1e}",
+         weight {weight:.1e} (of the largest), log2 solid angle {size:.1e}",
         fabric.name,
         requests.len(),
         context.adapter
     );
-    assert!(direction < 5e-4 && weight < 1.9e-5 && size < 2.8e-3);
+    assert!(direction < 5e-4 && weight < 1e-4 && size < 2.8e-3);
 }
