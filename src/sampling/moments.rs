@@ -109,6 +109,19 @@ impl ShBasis {
     }
 }
 
+/// The moments ∫ g(w − c)·Y_j(w) dw of a tap's fetch kernel g about its direction c, for a
+/// stratum of `solid_angle`, into `out`: ĝ_l(σ)·Y_j(c), σ² its variance per axis.
+pub fn fetch_moments(basis: &ShBasis, tap: &Tap, out: &mut [f64]) {
+    basis.eval(tap.wi.as_dvec3(), out);
+    let variance = FETCH_VARIANCE_PER_SOLID_ANGLE * (tap.log2_solid_angle as f64).exp2();
+    for l in 0..=basis.order {
+        let g = (-((l * (l + 1)) as f64) * variance / 2.0).exp();
+        for y in &mut out[l * l..(l + 1) * (l + 1)] {
+            *y *= g;
+        }
+    }
+}
+
 /// Moves the weights of one node's `taps` (K·u_k, K = `taps.len()`) so that their fetches'
 /// moments match `moments` (∫ F Y_j dwi for `basis`), as the module doc derives.
 pub fn match_moments(basis: &ShBasis, taps: &mut [Tap], moments: &[DVec3]) {
@@ -120,13 +133,9 @@ pub fn match_moments(basis: &ShBasis, taps: &mut [Tap], moments: &[DVec3]) {
     let mut a = vec![0.0; n * k];
     let mut y = vec![0.0; n];
     for (c, tap) in taps.iter().enumerate() {
-        basis.eval(tap.wi.as_dvec3(), &mut y);
-        let variance = FETCH_VARIANCE_PER_SOLID_ANGLE * (tap.log2_solid_angle as f64).exp2();
-        for l in 0..=basis.order {
-            let g = (-((l * (l + 1)) as f64) * variance / 2.0).exp() * scales[c];
-            for j in l * l..(l + 1) * (l + 1) {
-                a[j * k + c] = y[j] * g;
-            }
+        fetch_moments(basis, tap, &mut y);
+        for (j, &y) in y.iter().enumerate() {
+            a[j * k + c] = y * scales[c];
         }
     }
     let mut normal = vec![0.0; n * n];
@@ -297,18 +306,13 @@ mod tests {
         let moments_of = |taps: &[Tap], blurred: bool, y: &mut [f64]| -> Vec<DVec3> {
             let mut sums = vec![DVec3::ZERO; n];
             for tap in taps {
-                basis.eval(tap.wi.as_dvec3(), y);
-                let variance =
-                    FETCH_VARIANCE_PER_SOLID_ANGLE * (tap.log2_solid_angle as f64).exp2();
-                for l in 0..=4usize {
-                    let g = if blurred {
-                        (-((l * (l + 1)) as f64) * variance / 2.0).exp()
-                    } else {
-                        1.0
-                    };
-                    for j in l * l..(l + 1) * (l + 1) {
-                        sums[j] += tap.weight.as_dvec3() / count as f64 * g * y[j];
-                    }
+                if blurred {
+                    fetch_moments(&basis, tap, y);
+                } else {
+                    basis.eval(tap.wi.as_dvec3(), y);
+                }
+                for (sum, &y) in sums.iter_mut().zip(y.iter()) {
+                    *sum += tap.weight.as_dvec3() / count as f64 * y;
                 }
             }
             sums
