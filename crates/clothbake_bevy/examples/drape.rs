@@ -4,8 +4,8 @@
 //! then `cargo run --release -p clothbake_bevy --example drape`.
 //!
 //! The scene is clothbake's default one: its key and point lights (casting Bevy shadows) and
-//! the built-in studio environment as an `EnvironmentMapLight` (16 importance samples per
-//! fragment, for speed; `clothbake render` uses 64). `--env WORD` takes another environment,
+//! the built-in studio environment as an `EnvironmentMapLight` (the sample taps of
+//! `clothbake_bevy::DEFAULT_ENVIRONMENT_SAMPLES` per fragment, as `clothbake render`). `--env WORD` takes another environment,
 //! as `clothbake render --env` does (`sky`, `overcast`, `interior`, or an `.hdr`/`.exr` file):
 //! its compact bright sources (a sun, lamps) are directional lights (`source_lights`) and the
 //! rest of the map is the `EnvironmentMapLight`.
@@ -421,7 +421,7 @@ fn count_frames(
     assets: Res<AssetServer>,
     waiting: Res<PipelinesWaiting>,
     saved: Res<ScreenshotSaved>,
-    time: Res<Time>,
+    time: Res<Time<Real>>,
     mut settled: Local<u32>,
     mut frame: Local<u32>,
     mut exit: MessageWriter<AppExit>,

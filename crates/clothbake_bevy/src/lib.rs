@@ -55,14 +55,16 @@ pub use table_asset::{ALBEDO_SAMPLES, ClothTable, ClothTableError, ClothTableLoa
 use bevy::prelude::*;
 use bevy::shader::Shader;
 
-/// Registers [`ClothTable`], its loader and [`ClothMaterial`].
+/// Registers [`ClothTable`], its loader and [`ClothMaterial`], whose pending materials it binds
+/// once their tables have loaded.
 pub struct ClothPlugin;
 
 impl Plugin for ClothPlugin {
     fn build(&self, app: &mut App) {
         app.init_asset::<ClothTable>()
             .register_asset_loader(ClothTableLoader)
-            .add_plugins(MaterialPlugin::<ClothMaterial>::default());
+            .add_plugins(MaterialPlugin::<ClothMaterial>::default())
+            .add_systems(PostUpdate, material::bind_loaded_tables);
         app.world_mut()
             .resource_mut::<Assets<Shader>>()
             .insert(

@@ -62,7 +62,7 @@ pub struct ClothMaterial {
     pub sampling: Handle<ShaderBuffer>,
     /// The fragment shader with the table's lookup.
     pub shader: Handle<Shader>,
-    /// The table; holding it keeps the file's load alive for the sub-assets above.
+    /// The table, whose sub-assets the fields above are.
     pub table: Handle<ClothTable>,
 }
 
@@ -96,23 +96,55 @@ impl ClothMaterial {
         }
     }
 
-    /// The material of the table at `path` (an asset path, e.g. `"tables/velvet.exr"`), by
-    /// its labeled sub-assets: usable at once, drawn when the table has loaded.
+    /// The material of the table at `path` (an asset path, e.g. `"tables/velvet.exr"`): usable
+    /// at once, drawn once the table has loaded and [`crate::ClothPlugin`] has bound its
+    /// sub-assets ([`bind_loaded_tables`]).
     pub fn load(asset_server: &AssetServer, path: &str) -> Self {
-        let label = |name: &str| format!("{path}#{name}");
-        // Loading the table as a `ClothTable` first picks clothbake's loader for the file
-        // (Bevy's EXR image loader may claim the extension too); the labeled loads below
-        // share that load.
-        let table: Handle<ClothTable> = asset_server.load(path.to_string());
+        // Only the table is loaded: Bevy loads the whole file again for every labeled
+        // sub-asset asked for by path before the file has loaded (bevyengine/bevy#10549), and
+        // each load builds the sample taps and the albedo map.
         Self {
-            binding4: asset_server.load(label("binding4")),
-            binding5: asset_server.load(label("binding5")),
-            binding6: asset_server.load(label("binding6")),
-            binding7: asset_server.load(label("binding7")),
-            albedo: asset_server.load(label("albedo")),
-            sampling: asset_server.load(label("sampling")),
-            shader: asset_server.load(label("shader")),
-            table,
+            binding4: PENDING_IMAGE,
+            binding5: PENDING_IMAGE,
+            binding6: PENDING_IMAGE,
+            binding7: PENDING_IMAGE,
+            albedo: PENDING_IMAGE,
+            sampling: PENDING_BUFFER,
+            shader: PENDING_SHADER,
+            table: asset_server.load(path.to_string()),
+        }
+    }
+
+    /// Whether the table's sub-assets are still to be bound (the material was made by
+    /// [`ClothMaterial::load`] and its table has not loaded yet).
+    pub fn is_pending(&self) -> bool {
+        self.shader == PENDING_SHADER
+    }
+}
+
+/// What a pending material binds: handles of assets that never exist, so that Bevy retries
+/// its bind group (and builds no pipeline) until [`bind_loaded_tables`] replaces them.
+const PENDING_IMAGE: Handle<Image> = uuid_handle!("0b6f2d4e-3c1a-4e8b-9f7d-6a5c4b3e2d1f");
+const PENDING_BUFFER: Handle<ShaderBuffer> = uuid_handle!("1c7a3e5f-4d2b-4f9c-8e6a-7b6d5c4f3e2a");
+const PENDING_SHADER: Handle<Shader> = uuid_handle!("2d8b4f6a-5e3c-4a0d-9f7b-8c7e6d5a4f3b");
+
+/// Binds the sub-assets of every pending material whose table has loaded (a system of
+/// [`crate::ClothPlugin`]). Only those materials are touched: a mutable access marks a
+/// material changed and Bevy then rebuilds its bind group.
+pub fn bind_loaded_tables(
+    tables: Res<Assets<ClothTable>>,
+    mut materials: ResMut<Assets<ClothMaterial>>,
+) {
+    let ready: Vec<AssetId<ClothMaterial>> = materials
+        .iter()
+        .filter(|(_, m)| m.is_pending() && tables.contains(&m.table))
+        .map(|(id, _)| id)
+        .collect();
+    for id in ready {
+        if let Some(mut material) = materials.get_mut(id)
+            && let Some(table) = tables.get(&material.table)
+        {
+            *material = ClothMaterial::from_table(material.table.clone(), table);
         }
     }
 }

@@ -7,7 +7,7 @@ use bevy::asset::LoadState;
 use bevy::prelude::*;
 use bevy::render::renderer::RenderAdapterInfo;
 use bevy::shader::Shader;
-use clothbake_bevy::ClothTable;
+use clothbake_bevy::{ClothMaterial, ClothTable};
 use std::time::{Duration, Instant};
 
 #[test]
@@ -127,4 +127,67 @@ fn split_frame_shader_is_the_lookup_on_every_adapter() {
             "load still pending: {state:?}"
         );
     }
+}
+
+/// Every table file loads once per material: the sample taps and the albedo map are built on
+/// load (seconds per table), and Bevy loads a file again for every labeled sub-asset asked
+/// for by path before it has loaded, which once made the `drape` example load each table
+/// seven or eight times.
+#[test]
+fn a_material_loads_its_table_once() {
+    #[derive(Resource, Default)]
+    struct TableEvents(Vec<String>);
+    fn record(mut events: MessageReader<AssetEvent<ClothTable>>, mut seen: ResMut<TableEvents>) {
+        seen.0.extend(events.read().map(|e| format!("{e:?}")));
+    }
+
+    let dir = scratch("loader-once");
+    bake_tables(&dir, &["linen_plain"]);
+    let mut app = headless_app(&dir);
+    app.init_resource::<TableEvents>()
+        .add_systems(Update, record);
+    app.finish();
+    app.cleanup();
+    let material = {
+        let server = app.world().resource::<AssetServer>();
+        ClothMaterial::load(server, "linen_plain.exr")
+    };
+    assert!(material.is_pending());
+    let handle = app
+        .world_mut()
+        .resource_mut::<Assets<ClothMaterial>>()
+        .add(material);
+    let start = Instant::now();
+    let mut bound = None;
+    // Past the binding, as long again twice over: any second load of the file, started with
+    // the first, has finished by then.
+    while bound.is_none_or(|at: Duration| start.elapsed() < 3 * at) {
+        app.update();
+        let materials = app.world().resource::<Assets<ClothMaterial>>();
+        if bound.is_none() && !materials.get(&handle).expect("the material").is_pending() {
+            bound = Some(start.elapsed());
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the material is still pending"
+        );
+    }
+    let material = app
+        .world()
+        .resource::<Assets<ClothMaterial>>()
+        .get(&handle)
+        .unwrap();
+    let table = app
+        .world()
+        .resource::<Assets<ClothTable>>()
+        .get(&material.table)
+        .expect("the table");
+    assert_eq!(material.shader, table.shader);
+    assert_eq!(material.sampling, table.sampling);
+    assert_eq!(material.albedo, table.albedo);
+    let events = &app.world().resource::<TableEvents>().0;
+    println!("bound after {bound:?}; the table's asset events: {events:?}");
+    let count = |kind: &str| events.iter().filter(|e| e.starts_with(kind)).count();
+    assert_eq!(count("Added"), 1, "{events:?}");
+    assert_eq!(count("Modified"), 0, "the table loaded again: {events:?}");
 }
