@@ -1,5 +1,5 @@
-//! The environment light on the GPU: an [`Environment`]'s mip chain as a filterable f16
-//! texture, the compact bright sources taken out of it as directional lights
+//! The environment light on the GPU: an [`Environment`]'s mip chain as a filterable
+//! shared-exponent texture, the compact bright sources taken out of it as directional lights
 //! ([`crate::lighting::bright_sources`]), and the render pass's lighting group (@group(2) of
 //! shaders/render/renderer.wgsl): that texture, its trilinear sampler and the fabric's
 //! sample taps ([`crate::gpu::GpuSampleTaps`]) that filtered importance sampling reads.
@@ -8,10 +8,6 @@ use crate::gpu::sampler::sampler_entry;
 use crate::gpu::{GpuContext, GpuError, GpuSampleTaps};
 use crate::lighting::{Environment, SplitEnvironment};
 use glam::Vec3;
-use half::f16;
-
-/// Largest f16 value: brighter texels (the sun of a captured sky) are clamped to it.
-const F16_MAX: f32 = 65504.0;
 
 /// What the frame uniform says of the environment map: level-0 width and height, and the
 /// number of mip levels.
@@ -45,8 +41,10 @@ pub struct GpuEnvironment {
 }
 
 impl GpuEnvironment {
-    /// Uploads every mip level of `environment` as Rgba16Float (filterable everywhere, unlike
-    /// 32-bit float), values clamped to the f16 range.
+    /// Uploads every mip level of `environment` as `Rgb9e5Ufloat` ([`rgb9e5`]): filterable on
+    /// every backend, unlike 32-bit float, and 4 bytes a texel against Rgba16Float's 8, which
+    /// makes the environment light's fetches, most of its cost, cheaper
+    /// (docs/performance.md#environment-light-on-lavapipe).
     pub fn new(context: &GpuContext, environment: &Environment) -> Result<Self, GpuError> {
         let levels = environment.levels();
         let (width, height) = (levels[0].width(), levels[0].height());
@@ -67,17 +65,12 @@ impl GpuEnvironment {
                 mip_level_count: levels.len() as u32,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::Rgba16Float,
+                format: wgpu::TextureFormat::Rgb9e5Ufloat,
                 usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             });
             for (mip, level) in levels.iter().enumerate() {
-                let bits: Vec<u16> = level
-                    .texels()
-                    .iter()
-                    .flat_map(|t| [t[0], t[1], t[2], 1.0])
-                    .map(|v| f16::from_f32(v.min(F16_MAX)).to_bits())
-                    .collect();
+                let packed: Vec<u32> = level.texels().iter().map(|&t| rgb9e5(t)).collect();
                 context.queue.write_texture(
                     wgpu::TexelCopyTextureInfo {
                         texture: &texture,
@@ -85,10 +78,10 @@ impl GpuEnvironment {
                         origin: wgpu::Origin3d::ZERO,
                         aspect: wgpu::TextureAspect::All,
                     },
-                    bytemuck::cast_slice(&bits),
+                    bytemuck::cast_slice(&packed),
                     wgpu::TexelCopyBufferLayout {
                         offset: 0,
-                        bytes_per_row: Some(level.width() * 8),
+                        bytes_per_row: Some(level.width() * 4),
                         rows_per_image: Some(level.height()),
                     },
                     wgpu::Extent3d {
@@ -150,6 +143,35 @@ impl GpuEnvironment {
     }
 }
 
+/// Largest value RGB9E5 holds, (1 − 2⁻⁹)·2¹⁶: brighter texels (a sun left in the map) are
+/// clamped to it.
+pub const RGB9E5_MAX: f32 = 511.0 / 512.0 * 65536.0;
+
+/// `rgb` in the shared-exponent format of `Rgb9e5Ufloat` (bits 0–8 red, 9–17 green, 18–26
+/// blue, 27–31 the exponent): a channel reads m·2^(e − 15 − 9) for its 9-bit mantissa m and
+/// the shared exponent e. The exponent is the smallest that holds the largest channel, so that
+/// channel keeps 9 bits (an error of at most 2⁻⁹ of it, rounded to nearest) and every other
+/// channel the same absolute step. Values are clamped to [0, [`RGB9E5_MAX`]]; NaN reads 0.
+pub fn rgb9e5(rgb: [f32; 3]) -> u32 {
+    const MANTISSA_BITS: i32 = 9;
+    const BIAS: i32 = 15;
+    let c = rgb.map(|v| if v > 0.0 { v.min(RGB9E5_MAX) } else { 0.0 });
+    let largest = c[0].max(c[1]).max(c[2]);
+    if largest == 0.0 {
+        return 0;
+    }
+    // largest < 2^(floor(log2 largest) + 1) = 2^(e − 15): it fits 9 bits of steps 2^(e − 24),
+    // unless rounding carries it to 2^9 steps, one exponent up. The format's smallest
+    // exponent, 0, flushes what is below its step to 0.
+    let step = |e: i32| ((e - BIAS - MANTISSA_BITS) as f32).exp2();
+    let mut exponent = (largest.log2().floor() as i32 + 1 + BIAS).max(0);
+    if (largest / step(exponent)).round() >= (1 << MANTISSA_BITS) as f32 {
+        exponent += 1;
+    }
+    let mantissas = c.map(|v| (v / step(exponent)).round() as u32);
+    mantissas[0] | mantissas[1] << 9 | mantissas[2] << 18 | (exponent as u32) << 27
+}
+
 /// The layout of the render pass's lighting group: environment texture (0), its sampler
 /// (1), the fabric sampler's data (2).
 pub(super) fn lighting_layout(context: &GpuContext) -> wgpu::BindGroupLayout {
@@ -207,4 +229,55 @@ pub(super) fn lighting_group(
                 },
             ],
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What the GPU reads of a packed texel.
+    fn decode(bits: u32) -> [f32; 3] {
+        let step = ((bits >> 27) as f32 - 24.0).exp2();
+        [0, 9, 18].map(|shift| ((bits >> shift) & 0x1ff) as f32 * step)
+    }
+
+    /// Every channel reads back within half a step of the shared exponent, at most 2⁻⁹ of
+    /// the largest channel, from 10⁻⁴ (above the smallest exponent's range, 2⁻¹⁵) to the largest value and
+    /// for channel ratios down to 1/1000; below that range within half the smallest step.
+    #[test]
+    fn rgb9e5_keeps_nine_bits_of_the_largest_channel() {
+        let smallest_step = 0.5f32.powi(24);
+        for largest in [1e-9, 1e-6, 2e-5] {
+            let back = decode(rgb9e5([largest, 0.3 * largest, 0.0]));
+            assert!(
+                (back[0] - largest).abs() <= 0.5 * smallest_step,
+                "{largest}: {back:?}"
+            );
+        }
+        let mut worst = 0.0f32;
+        for decade in -4..=4 {
+            for i in 0..200 {
+                let largest = 10f32.powf(decade as f32 + i as f32 / 200.0).min(RGB9E5_MAX);
+                for ratios in [[1.0, 0.5, 0.25], [0.001, 1.0, 0.3], [0.7, 0.9, 1.0]] {
+                    let rgb = ratios.map(|r| r * largest);
+                    let back = decode(rgb9e5(rgb));
+                    for (v, b) in rgb.iter().zip(back) {
+                        worst = worst.max((v - b).abs() / largest);
+                    }
+                }
+            }
+        }
+        println!("worst error relative to the largest channel: {worst:.3e}");
+        assert!(worst <= 0.5f32.powi(9), "{worst}");
+    }
+
+    #[test]
+    fn rgb9e5_edges() {
+        assert_eq!(decode(rgb9e5([1.0, 0.5, 0.0])), [1.0, 0.5, 0.0]);
+        assert_eq!(rgb9e5([0.0; 3]), 0);
+        assert_eq!(rgb9e5([f32::NAN, -1.0, 0.0]), 0);
+        assert_eq!(decode(rgb9e5([1e6, 0.0, 0.0]))[0], RGB9E5_MAX);
+        // Just below a power of two rounds up into the next exponent.
+        assert_eq!(decode(rgb9e5([2.0 - 1e-4, 0.0, 0.0]))[0], 2.0);
+    }
 }
