@@ -98,7 +98,7 @@ impl ClothMaterial {
 
     /// The material of the table at `path` (an asset path, e.g. `"tables/velvet.exr"`): usable
     /// at once, drawn once the table has loaded and [`crate::ClothPlugin`] has bound its
-    /// sub-assets ([`bind_loaded_tables`]).
+    /// sub-assets.
     pub fn load(asset_server: &AssetServer, path: &str) -> Self {
         // Only the table is loaded: Bevy loads the whole file again for every labeled
         // sub-asset asked for by path before the file has loaded (bevyengine/bevy#10549), and
@@ -131,7 +131,7 @@ const PENDING_SHADER: Handle<Shader> = uuid_handle!("2d8b4f6a-5e3c-4a0d-9f7b-8c7
 /// Binds the sub-assets of every pending material whose table has loaded (a system of
 /// [`crate::ClothPlugin`]). Only those materials are touched: a mutable access marks a
 /// material changed and Bevy then rebuilds its bind group.
-pub fn bind_loaded_tables(
+pub(crate) fn bind_loaded_tables(
     tables: Res<Assets<ClothTable>>,
     mut materials: ResMut<Assets<ClothMaterial>>,
 ) {
