@@ -145,14 +145,14 @@ impl GpuEnvironment {
 
 /// Largest value RGB9E5 holds, (1 − 2⁻⁹)·2¹⁶: brighter texels (a sun left in the map) are
 /// clamped to it.
-pub const RGB9E5_MAX: f32 = 511.0 / 512.0 * 65536.0;
+const RGB9E5_MAX: f32 = 511.0 / 512.0 * 65536.0;
 
 /// `rgb` in the shared-exponent format of `Rgb9e5Ufloat` (bits 0–8 red, 9–17 green, 18–26
 /// blue, 27–31 the exponent): a channel reads m·2^(e − 15 − 9) for its 9-bit mantissa m and
 /// the shared exponent e. The exponent is the smallest that holds the largest channel, so that
 /// channel keeps 9 bits (an error of at most 2⁻⁹ of it, rounded to nearest) and every other
 /// channel the same absolute step. Values are clamped to [0, [`RGB9E5_MAX`]]; NaN reads 0.
-pub fn rgb9e5(rgb: [f32; 3]) -> u32 {
+fn rgb9e5(rgb: [f32; 3]) -> u32 {
     const MANTISSA_BITS: i32 = 9;
     const BIAS: i32 = 15;
     let c = rgb.map(|v| if v > 0.0 { v.min(RGB9E5_MAX) } else { 0.0 });
