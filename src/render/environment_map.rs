@@ -41,9 +41,9 @@ pub struct GpuEnvironment {
 }
 
 impl GpuEnvironment {
-    /// Uploads every mip level of `environment` as `Rgb9e5Ufloat` ([`rgb9e5`]): filterable on
-    /// every backend, unlike 32-bit float, and 4 bytes a texel against Rgba16Float's 8, which
-    /// makes the environment light's fetches, most of its cost, cheaper
+    /// Uploads every mip level of `environment` as `Rgb9e5Ufloat` (packed by `rgb9e5` below):
+    /// filterable on every backend, unlike 32-bit float, and 4 bytes a texel against
+    /// Rgba16Float's 8, which makes the environment light's fetches, most of its cost, cheaper
     /// (docs/performance.md#environment-light-on-lavapipe).
     pub fn new(context: &GpuContext, environment: &Environment) -> Result<Self, GpuError> {
         let levels = environment.levels();
@@ -242,8 +242,9 @@ mod tests {
     }
 
     /// Every channel reads back within half a step of the shared exponent, at most 2⁻⁹ of
-    /// the largest channel, from 10⁻⁴ (above the smallest exponent's range, 2⁻¹⁵) to the largest value and
-    /// for channel ratios down to 1/1000; below that range within half the smallest step.
+    /// the largest channel, from 10⁻⁴ (above the smallest exponent's range, 2⁻¹⁵) to the
+    /// largest value and for channel ratios down to 1/1000; below that range within half the
+    /// smallest step.
     #[test]
     fn rgb9e5_keeps_nine_bits_of_the_largest_channel() {
         let smallest_step = 0.5f32.powi(24);
