@@ -420,9 +420,9 @@ static MOMENT_BASIS: std::sync::LazyLock<ShBasis> =
     std::sync::LazyLock::new(|| ShBasis::new(MOMENT_ORDER));
 
 /// One stratum's tap from F's `values` (finite, non-negative) at its `points` (wi and the
-/// density there, spaced evenly in probability) and its `solid_angle`: the weight K·∫F dwi over the stratum (each
-/// point stands for 1/(K·points) of the probability, so K·∫F is the mean of F/pdf), the
-/// direction of F's centroid in it.
+/// density there, spaced evenly in probability) and its `solid_angle`: the weight K·∫F dwi
+/// over the stratum (each point stands for 1/(K·points) of the probability, so K·∫F is the
+/// mean of F/pdf), the direction of F's centroid in it.
 fn stratum_tap(points: &[(DVec3, f64)], values: &[DVec3], solid_angle: f64) -> Tap {
     let (mut weight, mut centroid, mut spread) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for (&(wi, pdf), &value) in points.iter().zip(values) {
