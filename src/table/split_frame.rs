@@ -230,6 +230,16 @@ fn sloped_part(thread: &Thread, sampling: TangentSampling) -> Option<Thread> {
     })
 }
 
+/// A thread's sloped table as one batch of lookups reads it: its geometry, planes and share
+/// w_c, and where the pairs fall.
+struct SlopedLookup<'a, L: Lanes> {
+    geometry: &'a ThreadGeometry,
+    table: &'a Plane,
+    masking: &'a Plane,
+    weight: f32,
+    located: LocatedPairs<L>,
+}
+
 impl Geometry {
     pub fn new(fabric: &Fabric, resolution: u32) -> Self {
         let threads = [0, 1].map(|j| {
@@ -317,32 +327,25 @@ impl Geometry {
         sums
     }
 
-    /// [`Self::thread_sums`] in f32 for pair `k`, `wi`, `wo`, of the `L::WIDTH` pairs whose
-    /// point masses sum to `points` and which fall at `located` in this thread's sloped
-    /// table, if it has one.
+    /// [`Self::thread_sums`] in f32 for pair `k` of the `L::WIDTH` pairs whose point masses
+    /// sum to `points`, with the thread's sloped table where it has one.
     #[inline(always)]
     fn thread_sums_f32<L: Lanes>(
-        &self,
-        planes: &[Plane],
-        j: usize,
         points: &PointSums<L>,
-        located: Option<&LocatedPairs<L>>,
+        sloped: Option<&SlopedLookup<L>>,
         k: usize,
     ) -> [f32; 3] {
-        let thread = &self.threads[j];
         let mut sums = [
             points[0].values()[k],
             points[1].values()[k],
             points[2].values()[k],
         ];
-        if let (Some(slopes), Some((table, masking)), Some(located)) =
-            (&thread.slopes, self.planes[j], located)
-        {
+        if let Some(sloped) = sloped {
             let [r, t, p, cos2_d] =
-                slopes
+                sloped
                     .geometry
-                    .sample_located(&planes[table], &planes[masking], located, k);
-            let p = slopes.weight as f32 * p;
+                    .sample_located(sloped.table, sloped.masking, &sloped.located, k);
+            let p = sloped.weight * p;
             sums[0] += r * p / cos2_d.max(1e-8);
             sums[1] += t * p;
             sums[2] += p;
@@ -350,16 +353,23 @@ impl Geometry {
         sums
     }
 
-    /// Thread j's sloped-table coordinates of the `L::WIDTH` pairs, if it has a table.
+    /// Thread j's sloped table and where the `L::WIDTH` pairs fall in it, if it has one.
     #[inline(always)]
-    fn locate_slopes<L: Lanes>(
-        &self,
+    fn locate_slopes<'a, L: Lanes>(
+        &'a self,
+        planes: &'a [Plane],
         j: usize,
         wi: &[Vec3],
         wo: &[Vec3],
-    ) -> Option<LocatedPairs<L>> {
-        let slopes = self.threads[j].slopes.as_ref()?;
-        Some(slopes.geometry.locate_f32::<L>(&slopes.fast_axes, wi, wo))
+    ) -> Option<SlopedLookup<'a, L>> {
+        let (slopes, (table, masking)) = (self.threads[j].slopes.as_ref()?, self.planes[j]?);
+        Some(SlopedLookup {
+            geometry: &slopes.geometry,
+            table: &planes[table],
+            masking: &planes[masking],
+            weight: slopes.weight as f32,
+            located: slopes.geometry.locate_f32::<L>(&slopes.fast_axes, wi, wo),
+        })
     }
 
     /// [`TableLookup::terms_f32`] of the `L::WIDTH` pairs `wi`, `wo` into `terms` (one per
@@ -373,22 +383,18 @@ impl Geometry {
         wo: &[Vec3],
         terms: &mut [[f32; 3]],
     ) {
-        // Each thread's steps are written out rather than called through a closure: called
-        // twice, such closures were not inlined, and the calls cost a tenth of a batch.
-        let located = [
-            self.locate_slopes::<L>(0, wi, wo),
-            self.locate_slopes::<L>(1, wi, wo),
+        // Each thread's steps are written out, and its planes found once per batch: closures
+        // called twice were not inlined, and the calls, with the planes looked up per pair,
+        // cost a fifth of a batch.
+        let sloped = [
+            self.locate_slopes::<L>(planes, 0, wi, wo),
+            self.locate_slopes::<L>(planes, 1, wi, wo),
         ];
         // A batch requests every pair's table rows before interpolating any (one pair alone
         // gains nothing from it).
         if L::WIDTH > 1 {
-            for (j, thread) in self.threads.iter().enumerate() {
-                if let (Some(slopes), Some((table, masking)), Some(located)) =
-                    (&thread.slopes, self.planes[j], &located[j])
-                {
-                    let (table, masking) = (&planes[table], &planes[masking]);
-                    slopes.geometry.prefetch_located(table, masking, located);
-                }
+            for s in sloped.iter().flatten() {
+                s.geometry.prefetch_located(s.table, s.masking, &s.located);
             }
         }
         let points = [
@@ -398,8 +404,8 @@ impl Geometry {
         let a = [self.coverage[0] as f32, self.coverage[1] as f32];
         for (k, terms) in terms.iter_mut().enumerate() {
             let sums = [
-                self.thread_sums_f32(planes, 0, &points[0], located[0].as_ref(), k),
-                self.thread_sums_f32(planes, 1, &points[1], located[1].as_ref(), k),
+                Self::thread_sums_f32(&points[0], sloped[0].as_ref(), k),
+                Self::thread_sums_f32(&points[1], sloped[1].as_ref(), k),
             ];
             let q = self.gap as f32 * wo[k].z + a[0] * sums[0][2] + a[1] * sums[1][2];
             if q > 0.0 {

@@ -604,7 +604,7 @@ impl ThreadGeometry {
     pub fn prefetch_located<L: Lanes>(&self, table: &Plane, masking: &Plane, at: &LocatedPairs<L>) {
         for k in 0..L::WIDTH {
             let lower = |a: usize| at.axes[a].0[k] as usize;
-            let (starts, s1) = corner_blocks(self, [0, 1, 2, 3].map(lower));
+            let (starts, s1) = corner_blocks(self, [lower(0), lower(1), lower(2), lower(3)]);
             for start in starts {
                 table.prefetch(start);
                 table.prefetch(start + s1);
@@ -936,7 +936,8 @@ fn masking_f32(plane: &Plane, [(x0, fx), (y0, fy)]: [(usize, f32); 2]) -> f32 {
 /// reflection and transmission at i0 and i0 + 1.
 #[inline(always)]
 fn corner_blocks(thread: &ThreadGeometry, [i0, i1, i2, i3]: [usize; 4]) -> ([usize; 4], usize) {
-    let n = [0, 1, 2, 3].map(|a| thread.axes[a].texels);
+    let a = &thread.axes;
+    let n = [a[0].texels, a[1].texels, a[2].texels, a[3].texels];
     // Plane row (i2·N3 + i3)·N1 + i1, column i0, two channels per texel: in f32 units
     // the corners along axis 0 are 2 apart, along axis 1 s1, along v s3, along u s2.
     let (s1, s3) = (2 * n[0], 2 * n[0] * n[1]);
