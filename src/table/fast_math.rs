@@ -47,12 +47,10 @@ pub trait Lanes:
     /// For non-negative lanes: (min(⌊self⌋, limit), self − that).
     fn split_floor(self, limit: i32) -> (Self::Indices, Self::Values);
     fn values(self) -> Self::Values;
-    /// ⌊self⌋ for |self| < 2³¹ (`exp`'s exponents lie in [−126, 1]), by truncation and a
-    /// step down where it rounded up: SSE2 has no vector floor, and a libm call per lane
-    /// cost 6% of a split_frame lookup.
-    fn floor(self) -> Self;
-    /// 2ⁿ for lanes n holding integers in [−126, 127].
-    fn pow2(n: Self) -> Self;
+    /// 2ⁿ for lanes holding n + 1.5·2²³, n an integer in [−126, 127]: such a float's low
+    /// mantissa bits are n in two's complement, so its bits shifted left by 23 are n's
+    /// exponent field less the bias.
+    fn pow2_of_shifted(self) -> Self;
     /// Lane by lane `a && b`.
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
 }
@@ -118,13 +116,8 @@ impl Lanes for f32 {
         [self]
     }
     #[inline(always)]
-    fn floor(self) -> Self {
-        let t = (self as i32) as f32;
-        if t > self { t - 1.0 } else { t }
-    }
-    #[inline(always)]
-    fn pow2(n: Self) -> Self {
-        f32::from_bits(((n as i32 + 127) << 23) as u32)
+    fn pow2_of_shifted(self) -> Self {
+        f32::from_bits((self.to_bits() << 23).wrapping_add(127 << 23))
     }
     #[inline(always)]
     fn and(a: bool, b: bool) -> bool {
@@ -195,13 +188,9 @@ impl Lanes for wide::f32x8 {
         self.to_array()
     }
     #[inline(always)]
-    fn floor(self) -> Self {
-        let t = wide::f32x8::from_i32x8(self.fast_trunc_int());
-        t - (t.cmp_gt(self) & wide::f32x8::splat(1.0))
-    }
-    #[inline(always)]
-    fn pow2(n: Self) -> Self {
-        bytemuck::cast((n.fast_trunc_int() + wide::i32x8::splat(127)) << 23)
+    fn pow2_of_shifted(self) -> Self {
+        let bits: wide::i32x8 = bytemuck::cast(self);
+        bytemuck::cast((bits << 23) + wide::i32x8::splat(127 << 23))
     }
     #[inline(always)]
     fn and(a: Self, b: Self) -> Self {
@@ -262,18 +251,21 @@ pub fn asin<L: Lanes>(x: L) -> L {
 }
 
 /// `x.exp()` lane by lane for x ≤ 0 (the Gaussians of the sample kernel), within 1e-6
-/// relative for x ≥ −87 and below 2e-38 beneath. Reduction e^x = 2ⁿ·e^g with
-/// n = ⌊x·log2 e + ½⌋ and g = x − n·ln 2 (ln 2 in two parts, so that g is exact to f32
-/// rounding), |g| ≤ ln 2 / 2, where the Taylor polynomial of degree 6 is within 1.7e-7
-/// (the next term, 0.347⁷/7!).
+/// relative for x ≥ −87 and below 2e-38 beneath. Reduction e^x = 2ⁿ·e^g with n the
+/// integer nearest x·log2 e and g = x − n·ln 2 (ln 2 in two parts, so that g is exact to
+/// f32 rounding), |g| ≤ ln 2 / 2, where the Taylor polynomial of degree 6 is within 1.7e-7
+/// (the next term, 0.347⁷/7!). Adding 1.5·2²³ rounds x·log2 e to that integer in the
+/// float's last place (SSE2 has no vector round), and the sum's bits give 2ⁿ.
 #[inline(always)]
 pub fn exp<L: Lanes>(x: L) -> L {
+    const SHIFT: f32 = 12_582_912.0;
     let x = x.max(L::splat(-87.0));
-    let n = (x * L::splat(std::f32::consts::LOG2_E) + L::splat(0.5)).floor();
+    let shifted = x * L::splat(std::f32::consts::LOG2_E) + L::splat(SHIFT);
+    let n = shifted - L::splat(SHIFT);
     let g = x - n * L::splat(0.693_359_4) - n * L::splat(-2.121_944_4e-4);
     let c = |k: usize| L::splat(EXP[k]);
     let p = c(0) + g * (c(1) + g * (c(2) + g * (c(3) + g * (c(4) + g * (c(5) + g * c(6))))));
-    p * L::pow2(n)
+    p * shifted.pow2_of_shifted()
 }
 
 /// 1/k! for k = 0 … 6.
