@@ -4,7 +4,7 @@
 
 use super::curve::{CurvePiece, Integration, curve_pieces};
 use super::fabric::{Fabric, Thread};
-use super::lobes::{UnitAreaGaussian, UnitHeightGaussian, fresnel_dielectric};
+use super::lobes::{ThreadLobes, UnitHeightGaussian, fresnel_dielectric};
 use super::resonant::{ResonantCost, ResonantRule};
 use glam::DVec3;
 
@@ -48,8 +48,7 @@ pub struct ThreadModel {
     kd: f64,
     albedo: DVec3,
     coverage: f64,
-    surface_lobe: UnitAreaGaussian,
-    volume_lobe: UnitAreaGaussian,
+    lobes: ThreadLobes,
     reweight: UnitHeightGaussian,
     /// Set for `Integration::Resonant`: the rule that places nodes per pair.
     resonant: Option<ResonantRule>,
@@ -105,8 +104,7 @@ impl ThreadModel {
             kd: thread.kd,
             albedo: DVec3::from_array(thread.albedo_rgb()),
             coverage: thread.coverage,
-            surface_lobe: UnitAreaGaussian::new(sigma_s.to_radians()),
-            volume_lobe: UnitAreaGaussian::new(sigma_v.to_radians()),
+            lobes: ThreadLobes::new(sigma_s.to_radians(), sigma_v.to_radians()),
             reweight: UnitHeightGaussian::new(options.sigma_u_deg.to_radians()),
             resonant: match integration {
                 Integration::Resonant(nodes) => Some(ResonantRule::new(
@@ -301,10 +299,11 @@ impl ThreadModel {
 
         let common = shadowing_m * masking_p / (cos_theta_d * cos_theta_d);
         let transmission = common * ft * (perp_i / (perp_i + perp_o));
+        let (surface, volume) = self.lobes.eval(theta_h);
         Some(SampleTerms {
             masking: masking_p,
-            reflection: common * fr * cos_half_phi_d * self.surface_lobe.eval(theta_h) * perp_i,
-            volume: transmission * (1.0 - self.kd) * self.volume_lobe.eval(theta_h),
+            reflection: common * fr * cos_half_phi_d * surface * perp_i,
+            volume: transmission * (1.0 - self.kd) * volume,
             diffuse: transmission * self.kd,
         })
     }

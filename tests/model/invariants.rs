@@ -2,7 +2,7 @@
 
 use crate::common::*;
 use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
-use clothbake::model::lobes::{UnitAreaGaussian, fresnel_dielectric};
+use clothbake::model::lobes::{ThreadLobes, UnitAreaGaussian, fresnel_dielectric};
 use clothbake::model::patch::ThreadModel;
 use clothbake::model::{Integration, Patch};
 use glam::DVec3;
@@ -24,6 +24,41 @@ fn lobe_gaussian_has_unit_area() {
             (g.eval(0.0) - 1.0 / (sigma * (2.0 * std::f64::consts::PI).sqrt())).abs()
                 < 1e-12 * g.eval(0.0)
         );
+    }
+}
+
+/// A thread's lobes are the two unit-area Gaussians, also where σv = 2σs and the surface
+/// lobe is taken as the volume lobe's fourth power: to within 1e-14 relative (a few
+/// roundings), or 1e-300 of the peak where both have underflowed.
+#[test]
+fn thread_lobes_are_the_two_gaussians() {
+    let widths_deg: [(f64, f64); 5] = [
+        (2.5, 5.0),
+        (12.0, 24.0),
+        (30.0, 60.0),
+        (18.0, 32.0),
+        (5.0, 5.0),
+    ];
+    for (gamma_s, gamma_v) in widths_deg {
+        let (sigma_s, sigma_v) = (gamma_s.to_radians(), gamma_v.to_radians());
+        let lobes = ThreadLobes::new(sigma_s, sigma_v);
+        let (surface, volume) = (
+            UnitAreaGaussian::new(sigma_s),
+            UnitAreaGaussian::new(sigma_v),
+        );
+        for i in 0..=2000 {
+            let theta_h = -1.6 + 3.2 * i as f64 / 2000.0;
+            let (s, v) = lobes.eval(theta_h);
+            for (got, want, peak) in [
+                (s, surface.eval(theta_h), surface.eval(0.0)),
+                (v, volume.eval(theta_h), volume.eval(0.0)),
+            ] {
+                assert!(
+                    (got - want).abs() <= 1e-14 * want + 1e-300 * peak,
+                    "γs {gamma_s}°, γv {gamma_v}°, θh {theta_h}: {got} against {want}"
+                );
+            }
+        }
     }
 }
 
