@@ -5,13 +5,15 @@
 //! Integration::Resonant(nodes))`.
 //!
 //! The WGSL is specialised per fabric and node counts: [`resonant_wgsl`] composes with the
-//! template the generated modules of the thresholds and node counts (from the Rust constants), the Gauss–Legendre rules
-//! for every count 1..=max(surface, volume, base) (the tail rules and the kink splits pick
-//! any of them per pair; computed in f64 by [`GaussLegendre::new`], rounded to f32), both
-//! threads' parameters, and per thread a function that visits the thread's curve pieces one
-//! by one (flat pieces as single nodes, segments by `cloth_resonant_segment`, which splits
-//! its node sets at the pair's kinks as `ResonantRule::segment` does). Everything is a
-//! constant, so group 0 is empty.
+//! template the generated modules of the thresholds and node counts (from the Rust
+//! constants), the Gauss–Legendre rules for every count 1..=max(surface, volume, base) (the
+//! tail rules and the kink splits pick any of them per pair; computed in f64 by
+//! [`GaussLegendre::new`], rounded to f32), both threads' parameters, and per thread a
+//! function that visits the thread's curve pieces one by one (flat pieces as single nodes,
+//! segments by `cloth_resonant_segment`, which splits its node sets at the pair's kinks as
+//! `ResonantRule::segment` does). Everything is a constant, so group 0 is empty.
+//!
+//! [`GaussLegendre::new`]: crate::model::resonant::GaussLegendre::new
 
 use super::resonant_kernel::{resonant_rules_wgsl, resonant_thread_wgsl};
 use super::{GpuBrdf, GpuContext, GpuError};

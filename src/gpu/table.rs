@@ -101,7 +101,7 @@ impl GpuTable {
 }
 
 impl GpuBrdf for GpuTable {
-    /// The lookup specialised for this table ([`lookup_wgsl_with`]): only the bindings of its
+    /// The lookup specialised for this table ([`lookup_wgsl`]): only the bindings of its
     /// layout are used.
     fn wgsl(&self) -> String {
         self.wgsl.clone()

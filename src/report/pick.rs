@@ -28,6 +28,8 @@ pub const CPU_ERROR: f64 = 0.01;
 
 /// Largest error of an evaluation of the model without a bake at reference quality:
 /// 0.25%, the bound [`ResonantNodes::DEFAULT`] was chosen to meet.
+///
+/// [`ResonantNodes::DEFAULT`]: crate::model::resonant::ResonantNodes::DEFAULT
 pub const NO_BAKE_ERROR: f64 = 0.0025;
 
 /// What a reader needs F for; one row of the section each.

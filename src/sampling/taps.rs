@@ -14,7 +14,7 @@
 //! # Strata
 //! The fabric's [`Sampler`] gives, for the node's `wo`, a piecewise-constant density over
 //! its cells (the bilinear mixture of its own four nodes around `wo` and the cosine share).
-//! The cells are put in the order of a Hilbert curve ([`curve_order`]), and the density
+//! The cells are put in the order of a Hilbert curve (`curve_order`), and the density
 //! becomes one CDF along it; stratum k is the interval [k/K, (k + 1)/K) of that CDF. Its
 //! probability is 1/K, so strata are small where F is large, and a run of a Hilbert curve is
 //! a compact patch of the sphere, so a stratum is compact: what one isotropic filtered fetch

@@ -131,7 +131,7 @@ impl TableLookup for Grid4dLookup {
     }
 
     /// The wo blend is filtered in hardware (2 axes, 8-bit weights); the wi blend is in
-    /// f32; every coordinate carries f32 error ([`gpu_bound`] points 1 and 2).
+    /// f32; every coordinate carries f32 error ([`super::gpu_bound`] points 1 and 2).
     fn gpu_error_bound(
         &self,
         planes: &[Plane],

@@ -176,7 +176,7 @@ const MIN_BETA_TEXELS: usize = 16;
 const THETA_WARP_K: f64 = 1.4;
 
 /// How a thread's axes are sized: βH texels per σs on the ridge band, the share of the
-/// axis the band gets and the density on a band's edge zone ([`RidgeBands::edge`]), the
+/// axis the band gets and the density on a band's edge zone (`RidgeBands::edge`), the
 /// texels of θd', u and v per unit of resolution, and the θd' warp strength. The
 /// thread_frame layout uses [`AxisPlan::THREAD_FRAME`]; other layouts that tabulate a
 /// thread in the same coordinates choose their own.
