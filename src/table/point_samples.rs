@@ -20,9 +20,6 @@ use glam::Vec3;
 pub struct PointSamples {
     /// Surface lobe −1/(2σs²), 1/(σs√(2π)); volume lobe −1/(2σv²), 1/(σv√(2π)) (radians).
     pub lobes: [f32; 4],
-    /// σv = 2σs, as for every built-in thread but crepe's second: the surface lobe's
-    /// Gaussian is then the volume lobe's to the fourth power (`cloth_sample_lobes`).
-    surface_from_volume: bool,
     pub eta: f32,
     pub kd: f32,
     /// η = 1 exactly: no interface, Fr = 0.
@@ -55,7 +52,6 @@ impl PointSamples {
         let [kv, pv] = unit_area_gaussian(sigmas[1]);
         Self {
             lobes: [ks, ps, kv, pv],
-            surface_from_volume: ks == 4.0 * kv,
             eta: eta as f32,
             kd: kd as f32,
             no_interface: eta == 1.0,
@@ -166,13 +162,20 @@ impl PointSamples {
         [masking_p, reflection, volume + diffuse].map(|x| L::select(counts, x, zero))
     }
 
+    /// σv = 2σs, as for every built-in thread but crepe's second: then ks = 4kv exactly,
+    /// and the surface lobe's Gaussian is the volume lobe's to the fourth power.
+    fn surface_from_volume(&self) -> bool {
+        self.lobes[0] == 4.0 * self.lobes[2]
+    }
+
     /// `cloth_sample_lobes`: the surface and volume lobes, each unit-area Gaussian
     /// `norm·exp(k·θh²)`, at `theta_h2` = θh².
     #[inline(always)]
     fn lobes<L: Lanes>(&self, theta_h2: L) -> [L; 2] {
+        let surface_from_volume = self.surface_from_volume();
         let [ks, ps, kv, pv] = self.lobes.map(L::splat);
         let volume = fast_math::exp(theta_h2 * kv);
-        let surface = if self.surface_from_volume {
+        let surface = if surface_from_volume {
             let square = volume * volume;
             square * square
         } else {
@@ -256,7 +259,8 @@ mod tests {
                 );
                 let twice = thread.gamma_v_deg == 2.0 * thread.gamma_s_deg;
                 assert_eq!(
-                    samples.surface_from_volume, twice,
+                    samples.surface_from_volume(),
+                    twice,
                     "{} thread {j}",
                     fabric.name
                 );
