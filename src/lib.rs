@@ -24,9 +24,11 @@
 //!   reference of the same view and image error metrics.
 //! - [`report`]: `clothbake report`, speed against error for every fabric.
 //! - [`viewer`]: `clothbake view`, the interactive window (winit).
+//! - [`weave`]: a fabric from a weave draft (named weaves and WIF files) and yarn knobs.
 
 pub mod bake;
 pub mod evaluator;
+pub mod fit;
 pub mod formats;
 #[cfg(feature = "runtime")]
 pub mod gpu;
@@ -43,3 +45,4 @@ pub mod shader;
 pub mod table;
 #[cfg(feature = "runtime")]
 pub mod viewer;
+pub mod weave;

@@ -6,8 +6,10 @@ mod bake;
 mod check;
 mod eval;
 mod fabrics;
+mod fit;
 mod options;
 mod sample;
+mod weave;
 mod wgsl;
 
 #[cfg(feature = "runtime")]
@@ -52,6 +54,11 @@ enum Command {
     /// see src/gpu/table.rs), to use the table in another engine: WGSL, or GLSL, HLSL or
     /// MSL translated by naga together with a compute kernel over pairs.
     Wgsl(wgsl::Args),
+    /// Make a fabric from a weave draft (a named weave or a WIF file) and yarn knobs, or
+    /// print the draft's drawdown.
+    Weave(weave::Args),
+    /// Fit a fabric to measured samples of F: JSON lines {"wi":[x,y,z],"wo":[x,y,z],"f":[r,g,b]}.
+    Fit(fit::Args),
     #[cfg(feature = "runtime")]
     /// Measure speed against error for every fabric (tables of each layout over a range of
     /// resolutions, paper mode at N = 1..64, bake times) and write REPORT.md, report.json
@@ -78,6 +85,8 @@ impl Cli {
             Command::Bake(args) => bake::run(args),
             Command::Check(args) => check::run(args),
             Command::Wgsl(args) => wgsl::run(args),
+            Command::Weave(args) => weave::run(args),
+            Command::Fit(args) => fit::run(args),
             #[cfg(feature = "runtime")]
             Command::Report(args) => report::run(args),
             #[cfg(feature = "runtime")]

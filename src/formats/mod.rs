@@ -10,3 +10,4 @@ pub mod environment_map;
 pub mod fabric_toml;
 pub mod json_lines;
 pub mod table_exr;
+pub mod wif;

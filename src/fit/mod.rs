@@ -1,0 +1,1 @@
+//! Fitting a fabric to measured samples of F (being written).

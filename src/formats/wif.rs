@@ -1,0 +1,1 @@
+//! WIF 1.1 weave drafts (being written).
