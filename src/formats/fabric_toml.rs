@@ -144,6 +144,41 @@ impl FabricSet {
     }
 }
 
+#[derive(serde::Serialize)]
+struct FabricFileOut<'a> {
+    fabric: &'a [Fabric],
+}
+
+/// The fabric file of `fabrics` as TOML, each line of `header` a `#` comment above it (where
+/// a fabric came from: the command, the draft, the fit's samples and error).
+pub fn fabric_file_text(fabrics: &[Fabric], header: &str) -> String {
+    let body = toml::to_string(&FabricFileOut { fabric: fabrics })
+        .expect("a fabric of plain numbers, arrays and strings serialises to TOML");
+    let mut text: String = header.lines().map(|line| format!("# {line}\n")).collect();
+    text.push_str(&body);
+    text
+}
+
+/// Writes `fabrics` to `path` atomically (a temporary file beside it, synced, then renamed
+/// over it), so that an error leaves no partial file and an existing one untouched.
+pub fn write_fabric_file(path: &Path, fabrics: &[Fabric], header: &str) -> std::io::Result<()> {
+    let text = fabric_file_text(fabrics, header);
+    let name = path.file_name().ok_or_else(|| {
+        std::io::Error::new(std::io::ErrorKind::InvalidInput, "the path names no file")
+    })?;
+    let mut temporary_name = std::ffi::OsString::from(".");
+    temporary_name.push(name);
+    temporary_name.push(format!(".{}.tmp", std::process::id()));
+    let temporary = path.with_file_name(temporary_name);
+    let result = std::fs::write(&temporary, text)
+        .and_then(|()| std::fs::File::open(&temporary)?.sync_all())
+        .and_then(|()| std::fs::rename(&temporary, path));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    result
+}
+
 /// A human-readable summary of `set`: one block per fabric with its key parameters.
 pub fn describe(set: &FabricSet) -> String {
     use std::fmt::Write;

@@ -4,8 +4,10 @@
 //! - [`table_exr`]: baked tables as OpenEXR files, written atomically, with a texel hash.
 //! - [`fabric_toml`]: fabric files and the built-in measured fabrics.
 //! - [`environment_map`]: equirectangular environment maps, Radiance `.hdr` and OpenEXR.
+//! - [`wif`] and [`draft_source`]: weave drafts, WIF 1.1 files and named weaves.
 //! - [`json_lines`]: the JSON-lines streams of `clothbake eval` and `clothbake sample`.
 
+pub mod draft_source;
 pub mod environment_map;
 pub mod fabric_toml;
 pub mod json_lines;

@@ -1,0 +1,235 @@
+//! A yarn family's knobs (its shape in the cloth and its optics) and the tangent curve its
+//! floats make (docs/weave.md#tangent-curves-from-floats).
+
+use super::fibre::Fibre;
+
+/// One yarn family: how it lies in the cloth (crimp, legs, flattening, cover) and its
+/// optics. Every field has a default, and [`Yarn::set`] changes one by its key, so commands
+/// and Python spell a yarn the same way: `crimp=30,legs=0.4,fibre=silk`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Yarn {
+    /// Largest tilt α of the yarn, in degrees, where it dives under a crossing yarn.
+    pub crimp_deg: f64,
+    /// Share of a one-crossing float spent on straight legs at ±crimp, in [0, 1).
+    pub legs: f64,
+    /// Share of a long float's extra length that lies flat (α = 0), in [0, 1]; the rest
+    /// widens the arc over the crossing yarns.
+    pub flatten: f64,
+    /// Cover factor, thickness over spacing, in (0, 1]; `None` takes the draft's spacing and
+    /// thickness where it gives them, else 1 (no gaps).
+    pub cover: Option<f64>,
+    /// Refractive index η.
+    pub eta: f64,
+    /// Colour in sRGB, overriding the draft's thread colours.
+    pub colour: Option<[f64; 3]>,
+    /// A = albedo_scale × the linear colour.
+    pub albedo_scale: f64,
+    pub kd: f64,
+    pub gamma_s_deg: f64,
+    pub gamma_v_deg: f64,
+}
+
+impl Default for Yarn {
+    /// A plain, matte yarn: the paper's linen optics (kd 0.3, γs 12°, γv 24°, A = 0.3 ×
+    /// colour), 25° of crimp, as the paper's linen curve, no legs, half-flat floats, η 1.5.
+    fn default() -> Self {
+        Self {
+            crimp_deg: 25.0,
+            legs: 0.0,
+            flatten: 0.5,
+            cover: None,
+            eta: 1.5,
+            colour: None,
+            albedo_scale: 0.3,
+            kd: 0.3,
+            gamma_s_deg: 12.0,
+            gamma_v_deg: 24.0,
+        }
+    }
+}
+
+/// The keys [`Yarn::set`] takes, for help texts.
+pub const YARN_KEYS: &str = "crimp (degrees, [0, 89]), legs ([0, 0.95]), flatten ([0, 1]), \
+    cover ((0, 1]), fibre (silk, polyester, cotton, linen, wool, nylon), eta ([1, 3]), \
+    colour (#rrggbb or r/g/b in [0, 1], sRGB), albedo_scale ([0, 10]), kd ([0, 1]), \
+    gamma_s and gamma_v (degrees, (0, 90])";
+
+impl Yarn {
+    /// Sets the knob `key` from its text; the error names the key and its range.
+    pub fn set(&mut self, key: &str, value: &str) -> Result<(), String> {
+        let key = key.trim();
+        let value = value.trim();
+        let number = |lo: f64, hi: f64, lo_open: bool| -> Result<f64, String> {
+            let v: f64 = value
+                .parse()
+                .map_err(|_| format!("yarn knob '{key}' takes a number, got '{value}'"))?;
+            let inside = v.is_finite() && v <= hi && if lo_open { v > lo } else { v >= lo };
+            if !inside {
+                let open = if lo_open { "(" } else { "[" };
+                return Err(format!(
+                    "yarn knob '{key}' must be within {open}{lo}, {hi}], got {value}"
+                ));
+            }
+            Ok(v)
+        };
+        match key.to_ascii_lowercase().as_str() {
+            "crimp" => self.crimp_deg = number(0.0, 89.0, false)?,
+            "legs" => self.legs = number(0.0, 0.95, false)?,
+            "flatten" => self.flatten = number(0.0, 1.0, false)?,
+            "cover" => self.cover = Some(number(0.0, 1.0, true)?),
+            "fibre" | "fiber" => self.eta = value.parse::<Fibre>()?.eta(),
+            "eta" => self.eta = number(1.0, 3.0, false)?,
+            "colour" | "color" => self.colour = Some(parse_colour(value)?),
+            "albedo_scale" => self.albedo_scale = number(0.0, 10.0, false)?,
+            "kd" => self.kd = number(0.0, 1.0, false)?,
+            "gamma_s" => self.gamma_s_deg = number(0.0, 90.0, true)?,
+            "gamma_v" => self.gamma_v_deg = number(0.0, 90.0, true)?,
+            other => return Err(format!("unknown yarn knob '{other}'; known: {YARN_KEYS}")),
+        }
+        Ok(())
+    }
+
+    /// Sets every `key=value` of a comma-separated list, in order.
+    pub fn set_all(&mut self, list: &str) -> Result<(), String> {
+        for item in list.split(',').filter(|s| !s.trim().is_empty()) {
+            let (key, value) = item
+                .split_once('=')
+                .ok_or_else(|| format!("yarn knobs are key=value, got '{item}'"))?;
+            self.set(key, value)?;
+        }
+        Ok(())
+    }
+}
+
+fn parse_colour(text: &str) -> Result<[f64; 3], String> {
+    let bad = || format!("a colour is #rrggbb or r/g/b with each in [0, 1], got '{text}'");
+    if let Some(hex) = text.strip_prefix('#') {
+        if hex.len() != 6 || !hex.is_ascii() {
+            return Err(bad());
+        }
+        let channel = |i: usize| {
+            u8::from_str_radix(&hex[2 * i..2 * i + 2], 16)
+                .map(|v| f64::from(v) / 255.0)
+                .map_err(|_| bad())
+        };
+        return Ok([channel(0)?, channel(1)?, channel(2)?]);
+    }
+    let parts: Vec<f64> = text
+        .split('/')
+        .map(|p| p.trim().parse::<f64>().map_err(|_| bad()))
+        .collect::<Result<_, _>>()?;
+    match parts[..] {
+        [r, g, b] if parts.iter().all(|c| (0.0..=1.0).contains(c)) => Ok([r, g, b]),
+        _ => Err(bad()),
+    }
+}
+
+/// The linear value of an sRGB component in [0, 1] (IEC 61966-2-1).
+pub fn srgb_to_linear(c: f64) -> f64 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// A family's tangent curve: `(offsets_deg, lengths)` in the fabric schema, from its floats
+/// (`(length, count)` pairs, [`super::Draft::floats`]) and the yarn's shape knobs.
+///
+/// Each float is drawn as the yarn's visible spine, in units of the crossing yarns' spacing
+/// p: a straight leg at −crimp, a circular arc from −crimp to 0, a flat part at α = 0, an arc
+/// from 0 to +crimp and a leg at +crimp. On a circle α grows linearly with arc length, so
+/// each arc is one segment of the schema. A float over one crossing is one arc of length p
+/// (the paper's linen curve with no legs), with legs of total length `legs/(1 − legs)·p`, so
+/// that they hold the share `legs` of it. A float over L crossings has L − 1 more spacings,
+/// of which the share `flatten` lies flat and the rest widens the arc. The model needs only
+/// the distribution of α along the curve (the curve mean is an integral over arc length), so
+/// the floats of a family add up, part by part, into one curve.
+pub fn tangent_curve(floats: &[(usize, usize)], yarn: &Yarn) -> (Vec<f64>, Vec<f64>) {
+    let count: usize = floats.iter().map(|&(_, n)| n).sum();
+    if count == 0 || yarn.crimp_deg == 0.0 {
+        return (vec![0.0], vec![]);
+    }
+    let mut arc = 0.0;
+    let mut flat = 0.0;
+    for &(length, n) in floats {
+        let extra = (length - 1) as f64;
+        arc += n as f64 * (1.0 + (1.0 - yarn.flatten) * extra);
+        flat += n as f64 * yarn.flatten * extra;
+    }
+    // Per float, so the lengths read in crossing spacings.
+    let (arc, flat) = (arc / count as f64, flat / count as f64);
+    let legs = yarn.legs / (1.0 - yarn.legs);
+    let c = yarn.crimp_deg;
+    let mut offsets = vec![];
+    let mut lengths = vec![];
+    if legs > 0.0 {
+        offsets.push(-c);
+        lengths.push(legs / 2.0);
+    }
+    if flat > 0.0 {
+        offsets.extend([-c, 0.0, 0.0]);
+        lengths.extend([arc / 2.0, flat, arc / 2.0]);
+    } else {
+        offsets.push(-c);
+        lengths.push(arc);
+    }
+    offsets.push(c);
+    if legs > 0.0 {
+        offsets.push(c);
+        lengths.push(legs / 2.0);
+    }
+    (offsets, lengths)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_crossing_without_legs_is_the_papers_linen_curve() {
+        let (offsets, lengths) = tangent_curve(&[(1, 2)], &Yarn::default());
+        assert_eq!(offsets, vec![-25.0, 25.0]);
+        assert_eq!(lengths, vec![1.0]);
+    }
+
+    #[test]
+    fn long_floats_get_legs_arcs_and_a_flat_part() {
+        let yarn = Yarn {
+            crimp_deg: 32.0,
+            legs: 0.5,
+            flatten: 0.5,
+            ..Yarn::default()
+        };
+        let (offsets, lengths) = tangent_curve(&[(4, 5)], &yarn);
+        assert_eq!(offsets, vec![-32.0, -32.0, 0.0, 0.0, 32.0, 32.0]);
+        // legs 1 in all, arcs 1 + 1.5, flat 1.5.
+        assert_eq!(lengths, vec![0.5, 1.25, 1.5, 1.25, 0.5]);
+    }
+
+    #[test]
+    fn knobs_parse_and_name_what_is_wrong() {
+        let mut yarn = Yarn::default();
+        yarn.set_all("crimp=30, legs=0.4,fibre=silk,colour=#ff8000")
+            .unwrap();
+        assert_eq!(
+            (yarn.crimp_deg, yarn.legs, yarn.eta),
+            (30.0, 0.4, 1.345)
+        );
+        assert_eq!(yarn.colour, Some([1.0, 128.0 / 255.0, 0.0]));
+        for (list, needle) in [
+            ("crimp=95", "crimp"),
+            ("legs=1", "legs"),
+            ("cover=0", "cover"),
+            ("fibre=hemp", "unknown fibre"),
+            ("colour=#12", "colour"),
+            ("colour=1/2/0", "colour"),
+            ("twist=3", "unknown yarn knob"),
+            ("crimp", "key=value"),
+            ("eta=NaN", "eta"),
+        ] {
+            let error = Yarn::default().set_all(list).unwrap_err();
+            assert!(error.contains(needle), "{list}: {error}");
+        }
+    }
+}
