@@ -14,3 +14,4 @@ mod common;
 
 mod bake;
 mod eval;
+mod weave;
