@@ -15,3 +15,4 @@ mod properties;
 mod reference;
 mod resonant;
 mod stability;
+mod weave;
