@@ -318,7 +318,7 @@ enum ColourRef {
 
 /// The `[WARP]` or `[WEFT]` section.
 struct FamilyHeader {
-    threads: Option<(usize, usize)>,
+    threads: Option<usize>,
     colour: Option<(ColourRef, usize)>,
     spacing: Option<f64>,
     thickness: Option<f64>,
@@ -458,7 +458,7 @@ impl<'a> Reader<'a> {
                 self.value_error(
                     name,
                     entry,
-                    format!("the key must be a {what} number from 1 to {most}"),
+                    format!("{what} numbers run from 1 to {most}; the key is not one"),
                 )
             })?;
             let value = parse(entry)?;
@@ -550,7 +550,7 @@ impl<'a> Reader<'a> {
     fn family_header(&self, side: Side, range: (f64, f64)) -> Result<FamilyHeader, WifError> {
         let name = side.name();
         let threads = match self.entry(name, "threads") {
-            Some(e) => Some((self.count(name, e, &e.value, 1, MAX_THREADS)?, e.line)),
+            Some(e) => Some(self.count(name, e, &e.value, 1, MAX_THREADS)?),
             None => None,
         };
         let colour = match self.entry(name, "color") {
@@ -590,7 +590,7 @@ impl<'a> Reader<'a> {
             self.number(NAME, entry, min)?,
             self.number(NAME, entry, max)?,
         );
-        if !(max > min) || !(max - min).is_finite() {
+        if max <= min || !(max - min).is_finite() {
             return Err(self.value_error(NAME, entry, format!("the range {min},{max} is empty")));
         }
         Ok((min, max))
@@ -728,11 +728,11 @@ impl<'a> Reader<'a> {
         };
 
         let ends = match warp.threads {
-            Some((n, _)) => n,
+            Some(n) => n,
             None => threading.last_key_value().map_or(0, |(&n, _)| n),
         };
         let picks = match weft.threads {
-            Some((n, _)) => n,
+            Some(n) => n,
             None => picks_listed.unwrap_or(0),
         };
         if ends == 0 {
@@ -942,8 +942,8 @@ mod tests {
             ),
             (
                 "2=2\n[TIEUP]",
-                "02=2\n[TIEUP]",
-                "[THREADING] 02 (line 10): end 2 is given twice",
+                "2=2\n02=2\n[TIEUP]",
+                "[THREADING] 02 (line 11): end 2 is given twice (first on line 10)",
             ),
             (
                 "[THREADING]\n1=1",
@@ -959,7 +959,7 @@ mod tests {
             (
                 "[THREADING]\n1=1",
                 "[THREADING]\n0=1",
-                "[THREADING] 0 (line 9): the key must be a end number",
+                "[THREADING] 0 (line 9): end numbers run from 1 to 16384",
             ),
             (
                 "[TREADLING]\n1=1",
@@ -972,9 +972,15 @@ mod tests {
                 "[WARP] Threads (line 5)",
             ),
             (
+                "[WARP]\nThreads=2\n[WEFT]\nThreads=2",
+                "[WARP]\nThreads=16384\n[WEFT]\nThreads=16384",
+                "16384 ends ([WARP] Threads or [THREADING]) × 16384 picks ([WEFT] Threads or \
+                 [TREADLING]) is more than 16777216 crossings",
+            ),
+            (
                 "[WARP]\nThreads=2",
-                "[WARP]\nThreads=16384",
-                "[WEFT] Threads",
+                "[WARP]\nThreads=16385",
+                "[WARP] Threads (line 5): 16385 is not within 1..=16384",
             ),
             (
                 "[WARP]\nThreads=2",
