@@ -53,7 +53,10 @@ fn describe(label: &str, s: &FamilySummary) -> String {
             floats.join(" ")
         },
         s.offsets_deg,
-        s.lengths.iter().map(|l| (l * 1e4).round() / 1e4).collect::<Vec<_>>()
+        s.lengths
+            .iter()
+            .map(|l| (l * 1e4).round() / 1e4)
+            .collect::<Vec<_>>()
     )
 }
 
@@ -113,8 +116,14 @@ pub fn run(args: Args) -> CommandResult {
     );
     write_fabric_file(&out, std::slice::from_ref(&fabric), &header)
         .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
-    println!("{}", describe("thread 1 (warp)", &weave.summary(Family::Warp)));
-    println!("{}", describe("thread 2 (weft)", &weave.summary(Family::Weft)));
+    println!(
+        "{}",
+        describe("thread 1 (warp)", &weave.summary(Family::Warp))
+    );
+    println!(
+        "{}",
+        describe("thread 2 (weft)", &weave.summary(Family::Weft))
+    );
     println!("wrote fabric '{name}' to {}", out.display());
     Ok(())
 }

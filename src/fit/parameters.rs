@@ -202,6 +202,19 @@ fn thread_mut(fabric: &mut Fabric, j: usize) -> &mut Thread {
     }
 }
 
+/// Sets a thread's RGB albedo A (each channel ≥ 0) as `albedo = A / max A`,
+/// `albedo_scale = max A`, the fitted parameters' form in a fabric file.
+pub(super) fn set_albedo(thread: &mut Thread, a: [f64; 3]) {
+    let max = a[0].max(a[1]).max(a[2]);
+    if max > 0.0 {
+        thread.albedo = a.map(|c| c / max);
+        thread.albedo_scale = max;
+    } else {
+        thread.albedo = [1.0; 3];
+        thread.albedo_scale = 0.0;
+    }
+}
+
 impl Parametrisation for LikeFabric {
     fn parameters(&self) -> &[FreeParameter] {
         &self.parameters
@@ -209,7 +222,10 @@ impl Parametrisation for LikeFabric {
 
     fn fabric(&self, values: &[f64]) -> Fabric {
         let mut fabric = self.base.clone();
-        let mut albedo = [self.base.thread1.albedo_rgb(), self.base.thread2.albedo_rgb()];
+        let mut albedo = [
+            self.base.thread1.albedo_rgb(),
+            self.base.thread2.albedo_rgb(),
+        ];
         let (mut total, mut share) = (None, None);
         for ((slot, p), &v) in self.slots.iter().zip(&self.parameters).zip(values) {
             let v = if v.is_finite() { p.clamp(v) } else { p.start };
@@ -229,15 +245,7 @@ impl Parametrisation for LikeFabric {
             }
         }
         for (j, a) in albedo.into_iter().enumerate() {
-            let thread = thread_mut(&mut fabric, j);
-            let max = a[0].max(a[1]).max(a[2]);
-            if max > 0.0 {
-                thread.albedo = a.map(|c| c / max);
-                thread.albedo_scale = max;
-            } else {
-                thread.albedo = [1.0; 3];
-                thread.albedo_scale = 0.0;
-            }
+            set_albedo(thread_mut(&mut fabric, j), a);
         }
         if let (Some(total), Some(share)) = (total, share) {
             let c1 = (total * share).clamp(0.0, 1.0);

@@ -59,7 +59,9 @@ pub enum SampleError {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("sample file {path} is {size} bytes, larger than the {MAX_SAMPLE_FILE_BYTES}-byte limit")]
+    #[error(
+        "sample file {path} is {size} bytes, larger than the {MAX_SAMPLE_FILE_BYTES}-byte limit"
+    )]
     TooLarge { path: PathBuf, size: u64 },
     #[error("sample file {origin}, line {line}, field '{field}': {message}")]
     Line {
@@ -139,9 +141,21 @@ fn parse_line(text: &str) -> Result<Sample, (String, String)> {
             ),
         )
     })?;
-    let wi = direction(line.wi, "wi").map_err(|m| ("wi".to_string(), m))?;
-    let wo = direction(line.wo, "wo").map_err(|m| ("wo".to_string(), m))?;
-    for (c, &v) in line.f.iter().enumerate() {
+    checked_sample(line.wi, line.wo, line.f, line.weight)
+}
+
+/// One sample checked as a file line is: directions finite, non-zero and above the horizon
+/// (normalised), `f` finite, ≥ 0 and at most [`MAX_VALUE`], the weight (1 when absent)
+/// finite, > 0 and at most [`MAX_VALUE`]. The error names the field.
+fn checked_sample(
+    wi: [f64; 3],
+    wo: [f64; 3],
+    f: [f64; 3],
+    weight: Option<f64>,
+) -> Result<Sample, (String, String)> {
+    let wi = direction(wi, "wi").map_err(|m| ("wi".to_string(), m))?;
+    let wo = direction(wo, "wo").map_err(|m| ("wo".to_string(), m))?;
+    for (c, &v) in f.iter().enumerate() {
         let fail = |m: String| ("f".to_string(), format!("component {c}: {m}"));
         if !v.is_finite() {
             return Err(fail(format!("{v} is not finite")));
@@ -153,7 +167,7 @@ fn parse_line(text: &str) -> Result<Sample, (String, String)> {
             return Err(fail(format!("{v} is larger than {MAX_VALUE}")));
         }
     }
-    let weight = line.weight.unwrap_or(1.0);
+    let weight = weight.unwrap_or(1.0);
     if !weight.is_finite() || weight <= 0.0 || weight > MAX_VALUE {
         return Err((
             "weight".into(),
@@ -163,9 +177,52 @@ fn parse_line(text: &str) -> Result<Sample, (String, String)> {
     Ok(Sample {
         wi,
         wo,
-        f: DVec3::from_array(line.f),
+        f: DVec3::from_array(f),
         weight,
     })
+}
+
+/// One row of samples given as arrays (Python's NumPy arrays): `wi`, `wo`, `f` and an
+/// optional weight.
+pub type SampleRow = ([f64; 3], [f64; 3], [f64; 3], Option<f64>);
+
+impl Samples {
+    /// Samples from rows, each checked as a file line is; an error names the row (1-based,
+    /// as `line`) and the field. `origin` names the source; the SHA-256 is of the rows'
+    /// numbers as little-endian f64 (a weight of 1 where none is given), in row order.
+    pub fn from_rows(rows: &[SampleRow], origin: &str) -> Result<Samples, SampleError> {
+        let mut hasher = Sha256::new();
+        let mut samples = Vec::with_capacity(rows.len());
+        for (i, &(wi, wo, f, weight)) in rows.iter().enumerate() {
+            let sample = checked_sample(wi, wo, f, weight).map_err(|(field, message)| {
+                SampleError::Line {
+                    origin: origin.to_string(),
+                    line: i + 1,
+                    field,
+                    message,
+                }
+            })?;
+            for v in wi
+                .iter()
+                .chain(&wo)
+                .chain(&f)
+                .chain([&weight.unwrap_or(1.0)])
+            {
+                hasher.update(v.to_le_bytes());
+            }
+            samples.push(sample);
+        }
+        if samples.is_empty() {
+            return Err(SampleError::Empty {
+                origin: origin.to_string(),
+            });
+        }
+        Ok(Samples {
+            samples,
+            origin: origin.to_string(),
+            sha256: hex(&hasher.finalize()),
+        })
+    }
 }
 
 /// Parses sample lines from `bytes`; `origin` names the source in errors. Never panics.
@@ -265,6 +322,49 @@ pub fn write_samples(samples: &[Sample], out: &mut impl std::io::Write) -> std::
     Ok(())
 }
 
+/// Synthetic measurements: `fabric`'s converged direct F at `pairs`, each channel multiplied
+/// by `1 + noise · N(0, 1)` (seeded; clamped at 0): what the round-trip tests, the bench and
+/// examples/fit_round_trips.rs fit.
+pub fn synthetic_samples(
+    fabric: &crate::model::Fabric,
+    pairs: &[(DVec3, DVec3)],
+    noise: f64,
+    seed: u64,
+) -> Vec<Sample> {
+    use crate::model::{Integration, Patch};
+    use rand::{Rng, SeedableRng};
+    use rayon::prelude::*;
+    let patch = Patch::new(fabric, Integration::Direct);
+    let values: Vec<DVec3> = pairs
+        .par_iter()
+        .map(|&(wi, wo)| patch.eval(wi, wo))
+        .collect();
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+    let mut normal = move || {
+        // Box–Muller: platform independent, unlike a library's ziggurat tables.
+        let u1 = 1.0 - rng.random::<f64>();
+        let u2 = rng.random::<f64>();
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    };
+    pairs
+        .iter()
+        .zip(values)
+        .map(|(&(wi, wo), f)| {
+            let noisy = DVec3::new(
+                f.x * (1.0 + noise * normal()),
+                f.y * (1.0 + noise * normal()),
+                f.z * (1.0 + noise * normal()),
+            );
+            Sample {
+                wi,
+                wo,
+                f: noisy.max(DVec3::ZERO),
+                weight: 1.0,
+            }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -279,7 +379,9 @@ mod tests {
 
     #[test]
     fn parses_normalises_and_skips_comments_and_blank_lines() {
-        let text = format!("# made by hand\n\n{GOOD}\r\n  \n{{\"wi\":[0,0,2],\"wo\":[0,1,1],\"f\":[0,0,0],\"weight\":2.5}}\n");
+        let text = format!(
+            "# made by hand\n\n{GOOD}\r\n  \n{{\"wi\":[0,0,2],\"wo\":[0,1,1],\"f\":[0,0,0],\"weight\":2.5}}\n"
+        );
         let s = parse_samples(text.as_bytes(), "t").unwrap();
         assert_eq!(s.samples.len(), 2);
         assert!((s.samples[1].wo.length() - 1.0).abs() < 1e-15);
@@ -298,9 +400,18 @@ mod tests {
             (r#"{"wi":[0,0,0],"wo":[0,0,1],"f":[0,0,0]}"#, "'wi'"),
             (r#"{"wi":[0,0,1],"wo":[1,0,0],"f":[0,0,0]}"#, "'wo'"),
             (r#"{"wi":[0,0,1],"wo":[1,0,-1],"f":[0,0,0]}"#, "'wo'"),
-            (r#"{"wi":[0,0,1],"wo":[0,0,1],"f":[0,0,0],"weight":0}"#, "'weight'"),
-            (r#"{"wi":[0,0,1],"wo":[0,0,1],"f":[0,0,0],"weight":-1}"#, "'weight'"),
-            (r#"{"wi":[0,0,1],"wo":[0,0,1],"f":[0,0,0],"colour":1}"#, "'colour'"),
+            (
+                r#"{"wi":[0,0,1],"wo":[0,0,1],"f":[0,0,0],"weight":0}"#,
+                "'weight'",
+            ),
+            (
+                r#"{"wi":[0,0,1],"wo":[0,0,1],"f":[0,0,0],"weight":-1}"#,
+                "'weight'",
+            ),
+            (
+                r#"{"wi":[0,0,1],"wo":[0,0,1],"f":[0,0,0],"colour":1}"#,
+                "'colour'",
+            ),
             (r#"{"wi":[0,0,1],"wo":[0,0,1]}"#, "'f'"),
             (r#"{"wi":[0,0,1],"wo":[0,0,1],"f":[0,0]}"#, "(line)"),
             ("not json", "(line)"),
@@ -319,7 +430,10 @@ mod tests {
         let mut bytes = format!("{GOOD}\n").into_bytes();
         bytes.extend_from_slice(&[0xff, 0xfe, b'\n']);
         let message = parse_samples(&bytes, "t").unwrap_err().to_string();
-        assert!(message.contains("line 2") && message.contains("UTF-8"), "{message}");
+        assert!(
+            message.contains("line 2") && message.contains("UTF-8"),
+            "{message}"
+        );
         assert!(error("# nothing\n\n").contains("no samples"));
     }
 

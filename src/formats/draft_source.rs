@@ -10,7 +10,10 @@ use std::path::Path;
 #[derive(Debug, thiserror::Error)]
 pub enum DraftSourceError {
     #[error("weave '{spelling}': {source}")]
-    Named { spelling: String, source: DraftError },
+    Named {
+        spelling: String,
+        source: DraftError,
+    },
     #[error(transparent)]
     Wif(#[from] WifError),
 }
@@ -28,11 +31,9 @@ pub fn load_draft(spelling: &str) -> Result<(Draft, String), DraftSourceError> {
         let draft = load_wif(path)?;
         return Ok((draft, fabric_name_from(stem.as_deref().unwrap_or("weave"))));
     }
-    let named: NamedWeave = spelling
-        .parse()
-        .map_err(|source| DraftSourceError::Named {
-            spelling: spelling.to_string(),
-            source,
-        })?;
+    let named: NamedWeave = spelling.parse().map_err(|source| DraftSourceError::Named {
+        spelling: spelling.to_string(),
+        source,
+    })?;
     Ok((named.draft(), fabric_name_from(&named.to_string())))
 }

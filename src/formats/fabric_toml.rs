@@ -160,9 +160,11 @@ pub fn fabric_file_text(fabrics: &[Fabric], header: &str) -> String {
 }
 
 /// Writes `fabrics` to `path` atomically (a temporary file beside it, synced, then renamed
-/// over it), so that an error leaves no partial file and an existing one untouched.
+/// over it), so that an error leaves no partial file and an existing one untouched. The text
+/// is parsed back first, so what is written always loads.
 pub fn write_fabric_file(path: &Path, fabrics: &[Fabric], header: &str) -> std::io::Result<()> {
     let text = fabric_file_text(fabrics, header);
+    FabricSet::parse(&text, &path.display().to_string()).map_err(std::io::Error::other)?;
     let name = path.file_name().ok_or_else(|| {
         std::io::Error::new(std::io::ErrorKind::InvalidInput, "the path names no file")
     })?;

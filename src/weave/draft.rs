@@ -495,7 +495,13 @@ mod tests {
             let error = text.parse::<NamedWeave>().unwrap_err().0;
             assert!(error.contains(needle), "{text}: {error}");
         }
-        for name in ["plain", "basket:2", "twill:2/1:s", "satin:8/3", "sateen:5/2"] {
+        for name in [
+            "plain",
+            "basket:2",
+            "twill:2/1:s",
+            "satin:8/3",
+            "sateen:5/2",
+        ] {
             let weave: NamedWeave = name.parse().unwrap();
             assert_eq!(weave.to_string().parse::<NamedWeave>().unwrap(), weave);
         }

@@ -54,12 +54,12 @@ impl Weave {
     /// else the draft's spacing and thickness, else 1.
     pub fn cover(&self, family: Family) -> f64 {
         let yarns = self.draft.yarns(family);
-        self.yarn(family).cover.unwrap_or_else(|| {
-            match (yarns.thickness, yarns.spacing) {
+        self.yarn(family)
+            .cover
+            .unwrap_or_else(|| match (yarns.thickness, yarns.spacing) {
                 (Some(d), Some(p)) if d > 0.0 && p > 0.0 => (d / p).min(1.0),
                 _ => 1.0,
-            }
-        })
+            })
     }
 
     /// Each family's area coverage `[warp, weft]`.

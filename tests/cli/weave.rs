@@ -47,8 +47,14 @@ fn a_woven_fabric_evaluates_bakes_and_checks() {
     let text = output_text(&out);
     assert!(out.status.success(), "{text}");
     // One line per family with its coverage and curve.
-    let warp = text.lines().find(|l| l.starts_with("thread 1 (warp)")).unwrap();
-    assert!(warp.contains("face 0.7500") && warp.contains("floats 4×3"), "{warp}");
+    let warp = text
+        .lines()
+        .find(|l| l.starts_with("thread 1 (warp)"))
+        .unwrap();
+    assert!(
+        warp.contains("face 0.7500") && warp.contains("floats 4×3"),
+        "{warp}"
+    );
     let set = FabricSet::load(&fabric_file).unwrap();
     let denim = set.require("denim").unwrap();
     assert_eq!(denim.thread1.eta, 1.55);
@@ -65,7 +71,12 @@ fn a_woven_fabric_evaluates_bakes_and_checks() {
         path_str(&tables),
     ]);
     assert!(bake.status.success(), "{}", output_text(&bake));
-    let check = clothbake(&["check", path_str(&tables.join("denim.exr")), "--pairs", "300"]);
+    let check = clothbake(&[
+        "check",
+        path_str(&tables.join("denim.exr")),
+        "--pairs",
+        "300",
+    ]);
     assert!(check.status.success(), "{}", output_text(&check));
 }
 
@@ -75,10 +86,19 @@ fn bad_drafts_and_knobs_are_refused_with_the_reason() {
     let out_file = dir.join("x.toml");
     let out = path_str(&out_file);
     for (args, needle) in [
-        (vec!["weave", "satin:6", "--out", out], "no regular satin of 6 ends"),
+        (
+            vec!["weave", "satin:6", "--out", out],
+            "no regular satin of 6 ends",
+        ),
         (vec!["weave", "twill:2", "--out", out], "N/M"),
-        (vec!["weave", "plain", "--yarn", "crimp=100", "--out", out], "--yarn: yarn knob 'crimp'"),
-        (vec!["weave", "plain", "--weft", "fibre=hemp", "--out", out], "unknown fibre"),
+        (
+            vec!["weave", "plain", "--yarn", "crimp=100", "--out", out],
+            "--yarn: yarn knob 'crimp'",
+        ),
+        (
+            vec!["weave", "plain", "--weft", "fibre=hemp", "--out", out],
+            "unknown fibre",
+        ),
         (vec!["weave", "missing.wif", "--drawdown"], "missing.wif"),
         (vec!["weave", "plain"], "--out"),
     ] {

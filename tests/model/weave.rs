@@ -25,7 +25,10 @@ fn pairs(fabric: &Fabric) -> Vec<(DVec3, DVec3)> {
 /// largest F. The two evaluations add the same terms in the same order, so they agree to
 /// rounding (1e-12 leaves room for a few ulps of the largest term).
 fn largest_difference(a: &Fabric, b: &Fabric, map: impl Fn(DVec3) -> DVec3) -> f64 {
-    let (pa, pb) = (Patch::new(a, Integration::Direct), Patch::new(b, Integration::Direct));
+    let (pa, pb) = (
+        Patch::new(a, Integration::Direct),
+        Patch::new(b, Integration::Direct),
+    );
     let mut largest = 0.0_f64;
     let mut peak = 0.0_f64;
     for (wi, wo) in pairs(a) {
@@ -40,7 +43,10 @@ fn largest_difference(a: &Fabric, b: &Fabric, map: impl Fn(DVec3) -> DVec3) -> f
 
 #[test]
 fn s_and_z_twills_give_mirrored_f() {
-    let (warp, weft) = ("fibre=cotton,crimp=30,legs=0.3", "crimp=15,kd=0.6,colour=#c0c0b0");
+    let (warp, weft) = (
+        "fibre=cotton,crimp=30,legs=0.3",
+        "crimp=15,kd=0.6,colour=#c0c0b0",
+    );
     let s = woven("twill:3/1:s", warp, weft).fabric("s").unwrap();
     let z = woven("twill:3/1:z", warp, weft).fabric("z").unwrap();
     // An S twill is a Z twill with its ends in reverse order: mirrored across the warp,

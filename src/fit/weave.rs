@@ -1,0 +1,186 @@
+//! A fit from a weave draft alone (`clothbake fit --weave`): the draft fixes the floats and
+//! the face fractions; the fit chooses each yarn's shape knobs, its cover where the draft's
+//! spacing and thickness do not fix it, and its optics.
+
+use super::parameters::{
+    ETA_RANGE, FreeParameter, GAMMA_S_RANGE_DEG, GAMMA_V_RANGE_DEG, Parametrisation,
+};
+use crate::model::Fabric;
+use crate::weave::{Family, Weave, Yarn};
+
+/// Largest crimp a fit tries, in degrees: steeper than any woven yarn's tilt, short of the
+/// pile's 90°.
+pub const CRIMP_RANGE_DEG: (f64, f64) = (0.0, 80.0);
+/// Largest share of straight legs a fit tries.
+pub const LEGS_RANGE: (f64, f64) = (0.0, 0.9);
+/// Range of an arc's squash: down to an ellipse of aspect 0.05.
+pub const SQUASH_RANGE: (f64, f64) = (0.0, 0.95);
+/// Smallest cover factor a fit tries: a gauze.
+pub const COVER_RANGE: (f64, f64) = (0.05, 1.0);
+
+/// What each free parameter of a [`WeaveParameters`] sets, per family (0 warp, 1 weft).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Knob {
+    Crimp,
+    Legs,
+    Flatten,
+    Squash,
+    Cover,
+    Eta,
+    Albedo(usize),
+    Kd,
+    GammaS,
+    GammaV,
+}
+
+/// The free parameters of a weave: per yarn crimp, legs, flatten, squash, cover (unless the draft's
+/// spacing and thickness or the yarn's knob fix it), η (unless a fibre fixes it), the RGB
+/// albedo A (each channel in [0, 1]), kd, γs and γv. The fabric is the weave's
+/// ([`Weave::fabric`]) with A written as `albedo = A / max A`, `albedo_scale = max A`.
+#[derive(Clone, Debug)]
+pub struct WeaveParameters {
+    weave: Weave,
+    name: String,
+    parameters: Vec<FreeParameter>,
+    knobs: Vec<(usize, Knob)>,
+}
+
+impl WeaveParameters {
+    /// Frees the knobs of `weave`'s yarns, starting from their values; `fixed_eta` fixes η.
+    pub fn new(weave: &Weave, name: &str, fixed_eta: Option<f64>) -> Self {
+        let mut weave = weave.clone();
+        let mut parameters = Vec::new();
+        let mut knobs = Vec::new();
+        for (j, family) in [Family::Warp, Family::Weft].into_iter().enumerate() {
+            let cover_free = weave.yarn(family).cover.is_none() && {
+                let yarns = weave.draft.yarns(family);
+                yarns.spacing.is_none() || yarns.thickness.is_none()
+            };
+            let colour = weave.colour(family);
+            let yarn = match family {
+                Family::Warp => &mut weave.warp,
+                Family::Weft => &mut weave.weft,
+            };
+            if let Some(eta) = fixed_eta {
+                yarn.eta = eta;
+            }
+            let label = ["warp", "weft"][j];
+            let mut free = |knob: Knob, name: &str, (lo, hi): (f64, f64), start: f64| {
+                parameters.push(FreeParameter::new(format!("{label}.{name}"), lo, hi, start));
+                knobs.push((j, knob));
+            };
+            free(Knob::Crimp, "crimp", CRIMP_RANGE_DEG, yarn.crimp_deg);
+            free(Knob::Legs, "legs", LEGS_RANGE, yarn.legs);
+            free(Knob::Flatten, "flatten", (0.0, 1.0), yarn.flatten);
+            free(Knob::Squash, "squash", SQUASH_RANGE, yarn.squash);
+            if cover_free {
+                free(Knob::Cover, "cover", COVER_RANGE, yarn.cover.unwrap_or(1.0));
+            }
+            if fixed_eta.is_none() {
+                free(Knob::Eta, "eta", ETA_RANGE, yarn.eta);
+            }
+            for (c, value) in colour.into_iter().enumerate() {
+                let a = (value * yarn.albedo_scale).min(1.0);
+                free(Knob::Albedo(c), &format!("A[{c}]"), (0.0, 1.0), a);
+            }
+            free(Knob::Kd, "kd", (0.0, 1.0), yarn.kd);
+            free(
+                Knob::GammaS,
+                "gamma_s_deg",
+                GAMMA_S_RANGE_DEG,
+                yarn.gamma_s_deg,
+            );
+            free(
+                Knob::GammaV,
+                "gamma_v_deg",
+                GAMMA_V_RANGE_DEG,
+                yarn.gamma_v_deg,
+            );
+        }
+        Self {
+            weave,
+            name: name.to_string(),
+            parameters,
+            knobs,
+        }
+    }
+}
+
+impl Parametrisation for WeaveParameters {
+    fn parameters(&self) -> &[FreeParameter] {
+        &self.parameters
+    }
+
+    fn fabric(&self, values: &[f64]) -> Fabric {
+        let mut yarns: [Yarn; 2] = [self.weave.warp.clone(), self.weave.weft.clone()];
+        let mut albedo = [[0.0; 3]; 2];
+        for (((j, knob), p), &v) in self.knobs.iter().zip(&self.parameters).zip(values) {
+            let v = if v.is_finite() { p.clamp(v) } else { p.start };
+            let yarn = &mut yarns[*j];
+            match knob {
+                Knob::Crimp => yarn.crimp_deg = v,
+                Knob::Legs => yarn.legs = v,
+                Knob::Flatten => yarn.flatten = v,
+                Knob::Squash => yarn.squash = v,
+                Knob::Cover => yarn.cover = Some(v),
+                Knob::Eta => yarn.eta = v,
+                Knob::Albedo(c) => albedo[*j][*c] = v,
+                Knob::Kd => yarn.kd = v,
+                Knob::GammaS => yarn.gamma_s_deg = v,
+                Knob::GammaV => yarn.gamma_v_deg = v,
+            }
+        }
+        let [warp, weft] = yarns;
+        let weave = Weave {
+            draft: self.weave.draft.clone(),
+            warp,
+            weft,
+        };
+        let mut fabric = weave
+            .fabric(&self.name)
+            .expect("every knob within its bounds makes a valid fabric");
+        for (thread, a) in [&mut fabric.thread1, &mut fabric.thread2]
+            .into_iter()
+            .zip(albedo)
+        {
+            super::parameters::set_albedo(thread, a);
+        }
+        fabric
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::weave::NamedWeave;
+    use rand::{Rng, SeedableRng};
+    use rand_pcg::Pcg64;
+
+    #[test]
+    fn every_vector_within_the_bounds_is_a_valid_fabric() {
+        for spelling in ["plain", "twill:2/1", "satin:8", "sateen:5"] {
+            let weave = Weave::new(spelling.parse::<NamedWeave>().unwrap().draft());
+            let parameters = WeaveParameters::new(&weave, "w", None);
+            let start = parameters.fabric(&parameters.start());
+            assert_eq!(
+                start.thread1.offsets_deg,
+                weave.fabric("w").unwrap().thread1.offsets_deg
+            );
+            let mut rng = Pcg64::seed_from_u64(3);
+            for trial in 0..200 {
+                let values: Vec<f64> = parameters
+                    .parameters()
+                    .iter()
+                    .map(|p| match trial {
+                        0 => p.lower,
+                        1 => p.upper,
+                        _ => p.lower + (p.upper - p.lower) * rng.random::<f64>(),
+                    })
+                    .collect();
+                parameters.fabric(&values).validate().unwrap();
+            }
+            let fixed = WeaveParameters::new(&weave, "w", Some(1.345));
+            assert_eq!(fixed.parameters().len() + 2, parameters.parameters().len());
+        }
+    }
+}
