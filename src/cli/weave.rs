@@ -68,13 +68,8 @@ pub fn weave_of(
     swap: bool,
     [both, warp, weft]: [&str; 3],
 ) -> Result<(Weave, String), Box<dyn std::error::Error>> {
-    let (mut draft, name) = load_draft(spelling)?;
-    if back {
-        draft = draft.back();
-    }
-    if swap {
-        draft = draft.transposed();
-    }
+    let (draft, name) = load_draft(spelling)?;
+    let draft = draft.oriented(back, swap);
     let knobs = |own: &str, option: &str| -> Result<Yarn, UsageError> {
         let mut yarn = Yarn::default();
         yarn.set_all(both)

@@ -182,6 +182,14 @@ impl Draft {
         mirror
     }
 
+    /// The draft as `--back` and `--swap` orient it, on every command and in Python: turned
+    /// over ([`Draft::back`]) when `back`, then warp and weft exchanged
+    /// ([`Draft::transposed`]) when `swap`.
+    pub fn oriented(self, back: bool, swap: bool) -> Self {
+        let turned = if back { self.back() } else { self };
+        if swap { turned.transposed() } else { turned }
+    }
+
     /// The yarns of `family`.
     pub fn yarns(&self, family: Family) -> &Yarns {
         match family {

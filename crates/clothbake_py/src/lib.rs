@@ -9,7 +9,14 @@
 //! module and adds the Mitsuba 3 BSDF.
 
 use clothbake::evaluator::{self, EvaluationContext, FabricEvaluator};
-use clothbake::formats::fabric_toml::FabricSet;
+use clothbake::fit::samples::SampleRow;
+use clothbake::fit::weave::WeaveParameters;
+use clothbake::fit::{
+    FitError, FitOptions, FitReport, LikeFabric, Parametrisation, SampleError, Samples,
+    fit as fit_samples,
+};
+use clothbake::formats::draft_source::load_draft;
+use clothbake::formats::fabric_toml::{FabricSet, fabric_file_text};
 use clothbake::formats::json_lines::unit_direction;
 use clothbake::formats::table_exr::{read_table, write_table};
 use clothbake::lighting::EnvironmentSource;
@@ -18,15 +25,17 @@ use clothbake::sampling::Sampler;
 use clothbake::scene::mesh::Mesh;
 use clothbake::scene::{Light, Scene};
 use clothbake::table::Layout;
+use clothbake::weave::{Fibre, Weave, Yarn};
 use glam::DVec3;
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{
-    AllowTypeChange, IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayLike2, PyUntypedArrayMethods,
+    AllowTypeChange, IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayLike1, PyArrayLike2,
+    PyUntypedArrayMethods,
 };
 use pyo3::create_exception;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 use rayon::prelude::*;
 use std::path::PathBuf;
 use std::sync::OnceLock;
@@ -63,6 +72,14 @@ impl Fabric {
     #[getter]
     fn name(&self) -> &str {
         &self.inner.name
+    }
+
+    /// The fabric as a fabric file (TOML, one `[[fabric]]`, as `clothbake weave --out` and
+    /// `clothbake fit --out` write it), each line of `header` a `#` comment above it; the
+    /// file reads back with `load_fabrics` and every command's `--fabrics`.
+    #[pyo3(signature = (header = ""))]
+    fn to_toml(&self, header: &str) -> String {
+        fabric_file_text(std::slice::from_ref(&self.inner), header)
     }
 
     fn __repr__(&self) -> String {
@@ -601,6 +618,317 @@ fn environment_map<'py>(py: Python<'py>, source: &str) -> PyResult<Bound<'py, Py
         .into_pyarray(py))
 }
 
+/// The text of a yarn knob's value as `Yarn::set` reads it: a string as it is, a number as
+/// Python would print it, a sequence (a colour) as its items joined by `/`.
+fn knob_text(option: &str, key: &str, value: &Bound<'_, PyAny>) -> PyResult<String> {
+    if value.is_instance_of::<PyString>() {
+        return value.extract();
+    }
+    if value.is_instance_of::<PyBool>() {
+        return Err(error(format!(
+            "{option}: yarn knob '{key}' takes a number or a string, got {value}"
+        )));
+    }
+    if value.is_instance_of::<PyInt>() || value.is_instance_of::<PyFloat>() {
+        return Ok(value.str()?.to_string());
+    }
+    if let Ok(items) = value.extract::<Vec<Bound<'_, PyAny>>>() {
+        let parts = items
+            .iter()
+            .map(|item| knob_text(option, key, item))
+            .collect::<PyResult<Vec<String>>>()?;
+        return Ok(parts.join("/"));
+    }
+    Err(error(format!(
+        "{option}: yarn knob '{key}' takes a number, a string or (for colour) three numbers, got {}",
+        value.get_type().name()?
+    )))
+}
+
+/// Sets the knobs of `spec` on `yarn`: a dict of knob to value, or the commands'
+/// `key=value,...` text; errors are the library's, after the argument's name.
+fn set_knobs(option: &str, spec: Option<&Bound<'_, PyAny>>, yarn: &mut Yarn) -> PyResult<()> {
+    let Some(spec) = spec.filter(|s| !s.is_none()) else {
+        return Ok(());
+    };
+    if let Ok(text) = spec.extract::<String>() {
+        return yarn
+            .set_all(&text)
+            .map_err(|e| error(format!("{option}: {e}")));
+    }
+    let Ok(knobs) = spec.cast::<PyDict>() else {
+        return Err(error(format!(
+            "{option}: expected a dict of yarn knobs or a 'key=value,...' string, got {}",
+            spec.get_type().name()?
+        )));
+    };
+    for (key, value) in knobs.iter() {
+        let key: String = key.extract().map_err(|_| {
+            error(format!(
+                "{option}: yarn knobs are named by strings, got the key {key}"
+            ))
+        })?;
+        let text = knob_text(option, &key, &value)?;
+        yarn.set(&key, &text)
+            .map_err(|e| error(format!("{option}: {e}")))?;
+    }
+    Ok(())
+}
+
+/// The yarn knobs of `weave()` and `fit()`: `yarn` for both families, then each one's own.
+type Knobs<'a, 'py> = [Option<&'a Bound<'py, PyAny>>; 3];
+
+/// The weave that a draft's spelling and the yarn knobs make, with the draft's fabric name,
+/// as `clothbake weave` makes it (src/cli/weave.rs, `weave_of`): the draft turned over
+/// (`back`), then warp and weft exchanged (`swap`), then `yarn`'s knobs on both families and
+/// each family's own.
+fn woven(draft: &str, knobs: Knobs, back: bool, swap: bool) -> PyResult<(Weave, String)> {
+    let (draft, name) = load_draft(draft).map_err(|e| error(format!("draft: {e}")))?;
+    let draft = draft.oriented(back, swap);
+    let [both, warp, weft] = knobs;
+    let yarn = |own: Option<&Bound<'_, PyAny>>, option: &str| -> PyResult<Yarn> {
+        let mut yarn = Yarn::default();
+        set_knobs("yarn", both, &mut yarn)?;
+        set_knobs(option, own, &mut yarn)?;
+        Ok(yarn)
+    };
+    let weave = Weave {
+        warp: yarn(warp, "warp")?,
+        weft: yarn(weft, "weft")?,
+        draft,
+    };
+    Ok((weave, name))
+}
+
+/// The fabric woven from `draft` (a named weave, `plain`, `basket:N`, `twill:N/M[:s|:z]`,
+/// `satin:N[/STEP]`, `sateen:N[/STEP]`, or a WIF file) with yarn knobs (docs/weave.md), as
+/// `clothbake weave` makes it: `yarn` for both families, then `warp` (thread 1, along x) and
+/// `weft` (thread 2, along y), each a dict (`{"crimp": 30, "fibre": "silk"}`) or the
+/// commands' text (`"crimp=30,fibre=silk"`); `back` weaves the back of the cloth, `swap`
+/// exchanges warp and weft before the knobs apply; `name` defaults to the draft's.
+#[pyfunction]
+#[pyo3(signature = (draft, yarn = None, warp = None, weft = None, back = false, swap = false, name = None))]
+#[allow(clippy::too_many_arguments)]
+fn weave(
+    draft: &str,
+    yarn: Option<&Bound<'_, PyAny>>,
+    warp: Option<&Bound<'_, PyAny>>,
+    weft: Option<&Bound<'_, PyAny>>,
+    back: bool,
+    swap: bool,
+    name: Option<&str>,
+) -> PyResult<Fabric> {
+    let (weave, default_name) = woven(draft, [yarn, warp, weft], back, swap)?;
+    let inner = weave.fabric(name.unwrap_or(&default_name)).map_err(error)?;
+    Ok(Fabric { inner })
+}
+
+/// The drawdown of `draft` (after `back` and `swap`, as in `weave()`), as `clothbake weave
+/// --drawdown` prints it: one line per pick, pick 1 first; `#` where the warp is on top, `.`
+/// where the weft is.
+#[pyfunction]
+#[pyo3(signature = (draft, back = false, swap = false))]
+fn drawdown(draft: &str, back: bool, swap: bool) -> PyResult<String> {
+    let (weave, _) = woven(draft, [None; 3], back, swap)?;
+    Ok(weave.draft.drawdown())
+}
+
+/// The report of a fit as a dict (see `fit`).
+fn fit_report_dict<'py>(py: Python<'py>, report: &FitReport) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("fit_relative_rms", report.fit_relative_rms)?;
+    d.set_item("holdout_relative_rms", report.holdout_relative_rms)?;
+    d.set_item("fit_count", report.fit_count)?;
+    d.set_item("holdout_count", report.holdout_count)?;
+    let names: Vec<&str> = report.parameters.iter().map(|p| p.name.as_str()).collect();
+    d.set_item("parameters", names.clone())?;
+    let values = PyDict::new(py);
+    for (name, value) in names.iter().zip(&report.values) {
+        values.set_item(name, value)?;
+    }
+    d.set_item("values", values)?;
+    let bounds = PyDict::new(py);
+    for p in &report.parameters {
+        bounds.set_item(&p.name, (p.lower, p.upper))?;
+    }
+    d.set_item("bounds", bounds)?;
+    d.set_item(
+        "flat_directions",
+        report
+            .flat_directions
+            .iter()
+            .map(|f| f.to_string())
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item("singular_values", report.singular_values.clone())?;
+    d.set_item("start_objectives", report.start_objectives.clone())?;
+    d.set_item("best_start", report.best_start)?;
+    d.set_item("evaluations", report.evaluations)?;
+    d.set_item("termination", &report.termination)?;
+    Ok(d)
+}
+
+/// A sample error in the bindings' words: rows counted from 0 as NumPy counts them.
+fn row_error(e: &SampleError) -> String {
+    match e {
+        SampleError::Line {
+            line,
+            field,
+            message,
+            ..
+        } => format!("row {}: {field}: {message}", line - 1),
+        SampleError::Empty { .. } => "wi, wo and f have no rows".into(),
+        SampleError::TooFew {
+            count,
+            needed,
+            parameters,
+            what,
+            ..
+        } => format!(
+            "{count} rows are fewer than the {needed} a fit of {parameters} free parameters \
+             needs ({what})"
+        ),
+        e => e.to_string(),
+    }
+}
+
+/// The rows of `f` (N, 3) or `weight` (N,) as numbers, refusing a wrong shape.
+fn values_of(
+    name: &str,
+    array: &PyArrayLike2<'_, f64, AllowTypeChange>,
+) -> PyResult<Vec<[f64; 3]>> {
+    three_columns(name, array.shape())?;
+    Ok(array
+        .as_array()
+        .rows()
+        .into_iter()
+        .map(|r| [r[0], r[1], r[2]])
+        .collect())
+}
+
+/// A fabric fitted to measured samples of F (RGB, cosines included, as `Evaluator.eval`
+/// gives it) at the directions `wi` (towards the light) and `wo` (towards the viewer) in the
+/// patch frame, as `clothbake fit` fits a sample file: the rows are checked as its lines are
+/// (directions above the horizon, F finite and ≥ 0, weights > 0); every `hold_out`-th row is
+/// held out and measured after the fit. It starts from `like` (a `Fabric`, whose parameters
+/// are fitted with its structure kept) or from `weave` (a draft's spelling, whose yarn knobs
+/// are fitted, starting from `yarn`, `warp`, `weft`, `back`, `swap` as in `weave()`).
+/// `fibre` fixes η of both threads to a fibre's; `starts` adds seeded perturbed starts;
+/// `name` names the fitted fabric. Returns the fabric and a report dict.
+#[pyfunction]
+#[pyo3(signature = (
+    wi, wo, f, like = None, weave = None, yarn = None, warp = None, weft = None,
+    back = false, swap = false, weight = None, fibre = None, name = None, starts = None,
+    hold_out = 5
+))]
+#[allow(clippy::too_many_arguments)]
+fn fit<'py>(
+    py: Python<'py>,
+    wi: PyArrayLike2<'py, f64, AllowTypeChange>,
+    wo: PyArrayLike2<'py, f64, AllowTypeChange>,
+    f: PyArrayLike2<'py, f64, AllowTypeChange>,
+    like: Option<PyRef<'py, Fabric>>,
+    weave: Option<&str>,
+    yarn: Option<&Bound<'py, PyAny>>,
+    warp: Option<&Bound<'py, PyAny>>,
+    weft: Option<&Bound<'py, PyAny>>,
+    back: bool,
+    swap: bool,
+    weight: Option<PyArrayLike1<'py, f64, AllowTypeChange>>,
+    fibre: Option<&str>,
+    name: Option<&str>,
+    starts: Option<usize>,
+    hold_out: usize,
+) -> PyResult<(Fabric, Bound<'py, PyDict>)> {
+    let eta = match fibre {
+        None => None,
+        Some(fibre) => Some(
+            fibre
+                .parse::<Fibre>()
+                .map_err(|e| error(format!("fibre: {e}")))?
+                .eta(),
+        ),
+    };
+    if let Some(starts) = starts
+        && !(1..=64).contains(&starts)
+    {
+        return Err(error(format!("starts: {starts} is not in 1..=64")));
+    }
+    let knobs_given = [yarn, warp, weft]
+        .iter()
+        .any(|k| k.is_some_and(|k| !k.is_none()));
+    let parametrisation: Box<dyn Parametrisation> = match (like, weave) {
+        (Some(like), None) => {
+            if knobs_given || back || swap {
+                return Err(error(
+                    "yarn, warp, weft, back and swap go with weave=, not like=",
+                ));
+            }
+            let mut parametrisation = LikeFabric::new(&like.inner, eta);
+            if let Some(name) = name {
+                let mut renamed = like.inner.clone();
+                renamed.name = name.to_string();
+                renamed.validate().map_err(error)?;
+                parametrisation = parametrisation.with_name(name);
+            }
+            Box::new(parametrisation)
+        }
+        (None, Some(draft)) => {
+            let (woven, default_name) = woven(draft, [yarn, warp, weft], back, swap)?;
+            let name = name.unwrap_or(&default_name);
+            // The start's fabric, validated (the name among it).
+            woven.fabric(name).map_err(error)?;
+            Box::new(WeaveParameters::new(&woven, name, eta))
+        }
+        _ => {
+            return Err(error(
+                "give exactly one of like= (a Fabric) and weave= (a draft's spelling)",
+            ));
+        }
+    };
+    let wi = values_of("wi", &wi)?;
+    let wo = values_of("wo", &wo)?;
+    let f = values_of("f", &f)?;
+    same_length(["wi", "wo"], wi.len(), wo.len())?;
+    same_length(["wi", "f"], wi.len(), f.len())?;
+    let weight: Option<Vec<f64>> = match &weight {
+        None => None,
+        Some(w) => {
+            let w: Vec<f64> = w.as_array().iter().copied().collect();
+            same_length(["wi", "weight"], wi.len(), w.len())?;
+            Some(w)
+        }
+    };
+    let mut options = FitOptions {
+        holdout_every: hold_out,
+        ..FitOptions::default()
+    };
+    if let Some(starts) = starts {
+        options.starts = starts;
+    }
+    let report = py
+        .detach(|| -> Result<FitReport, String> {
+            let rows: Vec<SampleRow> = (0..f.len())
+                .map(|row| (wi[row], wo[row], f[row], weight.as_ref().map(|w| w[row])))
+                .collect();
+            let samples = Samples::from_rows(&rows, "arrays").map_err(|e| row_error(&e))?;
+            fit_samples(parametrisation.as_ref(), &samples, &options, &|_| {}).map_err(
+                |e| match e {
+                    FitError::Samples(e) => row_error(&e),
+                    e => e.to_string(),
+                },
+            )
+        })
+        .map_err(error)?;
+    let d = fit_report_dict(py, &report)?;
+    Ok((
+        Fabric {
+            inner: report.fabric,
+        },
+        d,
+    ))
+}
+
 /// clothbake's version.
 const VERSION: &str = env!("CARGO_PKG_VERSION");
 
@@ -617,5 +945,8 @@ fn _clothbake(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(bake, m)?)?;
     m.add_function(wrap_pyfunction!(load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(environment_map, m)?)?;
+    m.add_function(wrap_pyfunction!(weave, m)?)?;
+    m.add_function(wrap_pyfunction!(drawdown, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
     Ok(())
 }

@@ -11,7 +11,7 @@ from conftest import ROOT
 def test_the_docs_examples_run_as_written(tmp_path):
     page = (ROOT / "docs" / "python.md").read_text()
     blocks = re.findall(r"```python\n(.*?)```", page, flags=re.S)
-    assert len(blocks) == 2, "the page's examples: the API and Mitsuba"
+    assert len(blocks) == 3, "the page's examples: the API, Mitsuba, weaves and fits"
     for k, code in enumerate(blocks):
         script = tmp_path / f"example{k}.py"
         script.write_text(code)
@@ -23,3 +23,4 @@ def test_the_docs_examples_run_as_written(tmp_path):
         assert done.returncode == 0, f"example {k}:\n{done.stdout}\n{done.stderr}"
     assert (tmp_path / "velvet-small.exr").is_file()
     assert (tmp_path / "velvet-mitsuba.exr").stat().st_size > 0
+    assert (tmp_path / "my-fabrics.toml").is_file() and (tmp_path / "my_satin.exr").is_file()

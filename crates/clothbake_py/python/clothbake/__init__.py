@@ -2,7 +2,8 @@
 
 Fabrics, every evaluator of F(wi, wo) that clothbake registers (``direct``, ``paper[:N]``,
 ``resonant[:S/V/B]``, ``table[:PATH]``, ``constant``), the importance sampler, and baked
-tables, over NumPy arrays of directions in the cloth frame (x along thread 1, y along
+tables, fabrics woven from a draft (``weave``) or fitted to
+measured F (``fit``), over NumPy arrays of directions in the cloth frame (x along thread 1, y along
 thread 2, z the normal; ``wi`` towards the light, ``wo`` towards the viewer). F is the
 cosine-weighted patch transfer: a distant light of perpendicular irradiance E gives outgoing
 radiance E * F(wi, wo).
@@ -24,11 +25,14 @@ from ._clothbake import (
     Table,
     __version__,
     bake,
+    drawdown,
     environment_map,
     evaluator_syntaxes,
     fabric_names,
+    fit,
     load_fabrics,
     load_scene,
+    weave,
 )
 
 __all__ = [
@@ -38,9 +42,12 @@ __all__ = [
     "Table",
     "__version__",
     "bake",
+    "drawdown",
     "environment_map",
     "evaluator_syntaxes",
     "fabric_names",
+    "fit",
     "load_fabrics",
     "load_scene",
+    "weave",
 ]

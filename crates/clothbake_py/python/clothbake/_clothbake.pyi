@@ -1,7 +1,7 @@
 """Type stubs of the extension module (crates/clothbake_py/src/lib.rs)."""
 
 import os
-from typing import Optional, Union
+from typing import Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -9,6 +9,8 @@ import numpy.typing as npt
 __version__: str
 _Path = Union[str, os.PathLike[str]]
 _Directions = npt.ArrayLike  # shape (N, 3), directions in the cloth frame (normalised as read)
+# Yarn knobs: {"crimp": 30, "fibre": "silk", "colour": (0.8, 0.1, 0.1)} or "crimp=30,fibre=silk"
+_Knobs = Optional[Union[str, Mapping[str, Union[str, float, Sequence[float]]]]]
 
 class ClothbakeError(ValueError):
     """A fabric, evaluator, table, file or array that clothbake refuses; the message names
@@ -23,6 +25,9 @@ class Fabric:
 
     @property
     def name(self) -> str: ...
+    def to_toml(self, header: str = "") -> str:
+        """The fabric as a fabric file (TOML, one ``[[fabric]]``), each line of ``header`` a
+        ``#`` comment; it reads back with ``load_fabrics`` and the commands' ``--fabrics``."""
 
 class Evaluator:
     """F(wi, wo) of one fabric by one evaluator of the registry, with the importance sampler
@@ -102,3 +107,48 @@ def environment_map(source: str = "studio") -> npt.NDArray[np.float32]:
     """The environment ``--env SOURCE`` names (``studio``, ``sky``, ``overcast``,
     ``interior``, ``uniform``, or an ``.hdr``/``.exr`` file) as an (H, W, 3) array of linear
     radiance; row 0 looks up (+y), u = 1/2 + atan2(d.x, -d.z)/2pi, v = acos(d.y)/pi."""
+
+def weave(
+    draft: str,
+    yarn: _Knobs = None,
+    warp: _Knobs = None,
+    weft: _Knobs = None,
+    back: bool = False,
+    swap: bool = False,
+    name: Optional[str] = None,
+) -> Fabric:
+    """The fabric woven from ``draft`` (``plain``, ``basket:N``, ``twill:N/M[:s|:z]``,
+    ``satin:N[/STEP]``, ``sateen:N[/STEP]``, or a WIF file), as ``clothbake weave`` makes it:
+    ``yarn`` knobs for both families, then ``warp``'s (thread 1) and ``weft``'s (thread 2);
+    ``back`` weaves the back, ``swap`` exchanges warp and weft before the knobs apply."""
+
+def drawdown(draft: str, back: bool = False, swap: bool = False) -> str:
+    """The draft's drawdown, one line per pick (pick 1 first): ``#`` where the warp is on
+    top, ``.`` where the weft is."""
+
+def fit(
+    wi: _Directions,
+    wo: _Directions,
+    f: npt.ArrayLike,
+    like: Optional[Fabric] = None,
+    weave: Optional[str] = None,
+    yarn: _Knobs = None,
+    warp: _Knobs = None,
+    weft: _Knobs = None,
+    back: bool = False,
+    swap: bool = False,
+    weight: Optional[npt.ArrayLike] = None,
+    fibre: Optional[str] = None,
+    name: Optional[str] = None,
+    starts: Optional[int] = None,
+    hold_out: int = 5,
+) -> tuple[Fabric, dict]:
+    """A fabric fitted to measured F (rows of ``f``, (N, 3) RGB with cosines, at ``wi``
+    and ``wo`` (N, 3) in the patch frame, above the horizon; optional ``weight`` (N,)) as
+    ``clothbake fit`` fits a sample file: from ``like`` (a fabric's parameters) or ``weave``
+    (a draft's yarn knobs, starting from ``yarn``/``warp``/``weft``/``back``/``swap`` as in
+    ``weave()``); ``fibre`` fixes eta; every ``hold_out``-th row is held out. Returns the
+    fabric and a report: ``fit_relative_rms``, ``holdout_relative_rms``, ``fit_count``,
+    ``holdout_count``, ``parameters``, ``values``, ``bounds``, ``flat_directions``,
+    ``singular_values``, ``start_objectives``, ``best_start``, ``evaluations``,
+    ``termination``. Each refused row is named (counted from 0)."""
