@@ -41,7 +41,7 @@ pub struct Args {
     #[arg(long, requires = "weave")]
     swap: bool,
     /// Fabric file (TOML) holding the --like fabric instead of the built-in fabrics.
-    #[arg(long)]
+    #[arg(long, requires = "like")]
     fabrics: Option<PathBuf>,
     /// Name of the fitted fabric (default: the --like fabric's name).
     #[arg(long)]
@@ -65,7 +65,8 @@ pub struct Args {
 
 /// The command line as typed, quoted where a shell would need it.
 fn command_line() -> String {
-    std::env::args()
+    std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
         .map(|a| {
             if !a.is_empty()
                 && a.chars()

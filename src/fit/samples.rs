@@ -17,6 +17,7 @@
 //! each line's length too ([`MAX_LINE_BYTES`]), and every error names the line (1-based, as
 //! an editor counts) and the field. Nothing in it can make the parser panic.
 
+use crate::formats::table_exr::hex;
 use glam::DVec3;
 use serde::Deserialize;
 use sha2::{Digest, Sha256};
@@ -293,15 +294,6 @@ pub fn load_samples(path: &Path) -> Result<Samples, SampleError> {
         });
     }
     parse_samples(&bytes, &path.display().to_string())
-}
-
-/// Lower-case hex of `bytes`.
-pub fn hex(bytes: &[u8]) -> String {
-    use std::fmt::Write;
-    bytes.iter().fold(String::new(), |mut s, b| {
-        let _ = write!(s, "{b:02x}");
-        s
-    })
 }
 
 /// Writes `samples` as JSON lines in the format [`parse_samples`] reads (what a test or a

@@ -57,8 +57,9 @@ pub const DEFAULT_BROADENING_DEG: [&[f64]; 2] =
 pub struct FitOptions {
     /// The resonant node counts of the model inside the loop.
     pub nodes: ResonantNodes,
-    /// Starts: the parametrisation's own, then `starts − 1` seeded perturbations of it; the
-    /// best objective is kept.
+    /// Starts: the first ones from the parametrisation's own values, one per schedule of
+    /// [`FitOptions::broadening_deg`], later ones from seeded perturbations of them; the best
+    /// objective is kept.
     pub starts: usize,
     /// Seed of the perturbed starts.
     pub seed: u64,

@@ -136,9 +136,13 @@ impl Parametrisation for WeaveParameters {
             warp,
             weft,
         };
-        let mut fabric = weave
-            .fabric(&self.name)
-            .expect("every knob within its bounds makes a valid fabric");
+        // Every knob within its bounds makes a valid fabric (tested); should one not, the
+        // start does, which the fit then sees as no improvement rather than a crash.
+        let mut fabric = weave.fabric(&self.name).unwrap_or_else(|_| {
+            self.weave
+                .fabric(&self.name)
+                .expect("the start is validated when the parameters are made")
+        });
         for (thread, a) in [&mut fabric.thread1, &mut fabric.thread2]
             .into_iter()
             .zip(albedo)

@@ -154,7 +154,22 @@ struct FabricFileOut<'a> {
 pub fn fabric_file_text(fabrics: &[Fabric], header: &str) -> String {
     let body = toml::to_string(&FabricFileOut { fabric: fabrics })
         .expect("a fabric of plain numbers, arrays and strings serialises to TOML");
-    let mut text: String = header.lines().map(|line| format!("# {line}\n")).collect();
+    // A TOML comment may hold no control character but tab: others become U+FFFD.
+    let comment = |line: &str| -> String {
+        line.chars()
+            .map(|c| {
+                if c.is_control() && c != '\t' {
+                    '\u{fffd}'
+                } else {
+                    c
+                }
+            })
+            .collect()
+    };
+    let mut text: String = header
+        .lines()
+        .map(|line| format!("# {}\n", comment(line)))
+        .collect();
     text.push_str(&body);
     text
 }

@@ -138,7 +138,8 @@ impl Provenance {
     }
 }
 
-fn hex(digest: &[u8]) -> String {
+/// Lower-case hexadecimal of `digest`.
+pub fn hex(digest: &[u8]) -> String {
     digest.iter().map(|b| format!("{b:02x}")).collect()
 }
 

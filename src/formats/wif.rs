@@ -33,8 +33,9 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Largest WIF file read: a Jacquard draft of 2,000 ends and 2,000 picks written as a lift
-/// plan is about 4 MiB, so 8 MiB holds any real draft while bounding what parsing allocates.
-pub const MAX_WIF_BYTES: u64 = 8 << 20;
+/// plan with half its shafts lifted is about 9 MiB, so 32 MiB holds any real draft while
+/// bounding what parsing allocates.
+pub const MAX_WIF_BYTES: u64 = 32 << 20;
 
 /// Largest colour palette: WIF palettes hold 256 entries or fewer in practice.
 const MAX_PALETTE_ENTRIES: usize = 65_536;
@@ -748,8 +749,12 @@ impl<'a> Reader<'a> {
         let ends_by = "[WARP] Threads";
         let picks_by = "[WEFT] Threads";
         self.within("THREADING", &threading, ends, ends_by)?;
-        self.within("TREADLING", &treadling, picks, picks_by)?;
-        self.within("LIFTPLAN", &liftplan, picks, picks_by)?;
+        // Only the section that says which shafts rise is read; the other may be longer.
+        if use_liftplan {
+            self.within("LIFTPLAN", &liftplan, picks, picks_by)?;
+        } else {
+            self.within("TREADLING", &treadling, picks, picks_by)?;
+        }
         if ends * picks > MAX_CELLS {
             return Err(self.draft_error(format!(
                 "{ends} ends ([WARP] Threads or [THREADING]) × {picks} picks ([WEFT] Threads or \

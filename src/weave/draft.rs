@@ -360,11 +360,16 @@ impl FromStr for NamedWeave {
                 None => Ok(NamedWeave::Plain),
                 Some(p) => Err(DraftError(format!("'plain' takes no parameter, got '{p}'"))),
             },
-            "basket" => Ok(NamedWeave::Basket(parse_count(
-                needs("basket:N")?,
-                "basket's N",
-                1,
-            )?)),
+            "basket" => {
+                let n = parse_count(needs("basket:N")?, "basket's N", 1)?;
+                if 2 * n > MAX_NAMED_REPEAT {
+                    return Err(DraftError(format!(
+                        "basket:{n} repeats on {} ends, more than {MAX_NAMED_REPEAT}",
+                        2 * n
+                    )));
+                }
+                Ok(NamedWeave::Basket(n))
+            }
             "twill" => {
                 let parameter = needs("twill:N/M[:s|:z]")?;
                 let (counts, direction) = match parameter.split_once(':') {

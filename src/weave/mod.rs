@@ -73,10 +73,14 @@ impl Weave {
     pub fn coverages(&self) -> [f64; 2] {
         let (kw, kf) = (self.cover(Family::Warp), self.cover(Family::Weft));
         let fw = self.draft.face_fraction(Family::Warp);
-        [
-            kw * (1.0 - kf) + kw * kf * fw,
-            kf * (1.0 - kw) + kw * kf * (1.0 - fw),
-        ]
+        let warp = kw * (1.0 - kf) + kw * kf * fw;
+        // The weft's as the covered total less the warp's, so that the two add to at most 1
+        // whatever the rounding (the schema's c1 + c2 ≤ 1).
+        let mut weft = ((kw + kf - kw * kf).min(1.0) - warp).max(0.0);
+        while warp + weft > 1.0 {
+            weft = weft.next_down();
+        }
+        [warp, weft]
     }
 
     /// The family's colour in linear RGB: the yarn's own, else the mean of the draft's
@@ -205,6 +209,14 @@ mod tests {
     fn coverage_is_the_face_fraction_without_gaps() {
         let satin = weave("satin:5");
         assert_eq!(satin.coverages(), [0.8, 0.19999999999999996]);
+        // Whatever the rounding, the two add to at most 1 (1e6 covers against the faces of
+        // a satin: one full cover made 1 + 2⁻⁵² before).
+        let mut satin = weave("satin:5");
+        for i in 1..=1_000_000 {
+            satin.weft.cover = Some(i as f64 / 1e6);
+            let [w, f] = satin.coverages();
+            assert!(w + f <= 1.0 && f >= 0.0, "{i}: {w} + {f}");
+        }
     }
 
     #[test]

@@ -56,7 +56,7 @@ fn fit_writes_a_fabric_file_that_loads() {
     let fitted = set.require("velvet_fit").unwrap();
     assert_eq!(fitted.thread1.eta, 1.46);
     let text = std::fs::read_to_string(&out).unwrap();
-    let hash = clothbake::fit::samples::hex(&{
+    let hash = clothbake::formats::table_exr::hex(&{
         use sha2::Digest;
         sha2::Sha256::digest(std::fs::read(&samples).unwrap())
     });
