@@ -275,6 +275,25 @@ pub fn perturbed(parametrisation: &dyn Parametrisation, fraction: f64, seed: u64
         .collect()
 }
 
+/// Checks that `parametrisation` makes a valid fabric at the lower bounds, the upper bounds
+/// and 198 seeded vectors between them.
+#[cfg(test)]
+pub(super) fn assert_every_vector_is_valid(parametrisation: &dyn Parametrisation, seed: u64) {
+    let mut rng = Pcg64::seed_from_u64(seed);
+    for trial in 0..200 {
+        let values: Vec<f64> = parametrisation
+            .parameters()
+            .iter()
+            .map(|p| match trial {
+                0 => p.lower,
+                1 => p.upper,
+                _ => p.lower + (p.upper - p.lower) * rng.random::<f64>(),
+            })
+            .collect();
+        parametrisation.fabric(&values).validate().unwrap();
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -300,18 +319,7 @@ mod tests {
                 assert_eq!((a.eta, a.kd), (b.eta, b.kd));
             }
             let params = like.parameters();
-            let mut rng = Pcg64::seed_from_u64(7);
-            for trial in 0..200 {
-                let values: Vec<f64> = params
-                    .iter()
-                    .map(|p| match trial {
-                        0 => p.lower,
-                        1 => p.upper,
-                        _ => p.lower + (p.upper - p.lower) * rng.random::<f64>(),
-                    })
-                    .collect();
-                like.fabric(&values).validate().unwrap();
-            }
+            assert_every_vector_is_valid(&like, 7);
             let fixed = LikeFabric::new(fabric, Some(1.5));
             assert_eq!(fixed.parameters().len() + 2, params.len());
             assert_eq!(fixed.fabric(&fixed.start()).thread2.eta, 1.5);

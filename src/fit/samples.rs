@@ -213,6 +213,11 @@ impl Samples {
             }
             samples.push(sample);
         }
+        Samples::new(samples, origin, hex(&hasher.finalize()))
+    }
+
+    /// The samples of `origin`, an error when there are none.
+    fn new(samples: Vec<Sample>, origin: &str, sha256: String) -> Result<Samples, SampleError> {
         if samples.is_empty() {
             return Err(SampleError::Empty {
                 origin: origin.to_string(),
@@ -221,7 +226,7 @@ impl Samples {
         Ok(Samples {
             samples,
             origin: origin.to_string(),
-            sha256: hex(&hasher.finalize()),
+            sha256,
         })
     }
 }
@@ -254,16 +259,7 @@ pub fn parse_samples(bytes: &[u8], origin: &str) -> Result<Samples, SampleError>
         let sample = parse_line(text).map_err(|(field, message)| fail(line, &field, message))?;
         samples.push(sample);
     }
-    if samples.is_empty() {
-        return Err(SampleError::Empty {
-            origin: origin.to_string(),
-        });
-    }
-    Ok(Samples {
-        samples,
-        origin: origin.to_string(),
-        sha256,
-    })
+    Samples::new(samples, origin, sha256)
 }
 
 /// Reads and parses a sample file, its size checked before anything is read.

@@ -33,22 +33,16 @@ pub enum ResidualScale {
 /// residuals weigh each sample by the inverse of its noise, the efficient estimator, and let
 /// the many dim samples of the volume term constrain A, kd and γv, which the few bright
 /// highlight samples otherwise outweigh; the better parameters then also give the lower
-/// error in the absolute metric the project reports. Measured on the six built-in fabrics
-/// moved by ±30% (examples/fit_round_trips.rs, 2,000 samples, the default schedules):
-/// held-out relative RMS on uniform / highlight pairs at most 0.47% / 0.92% with these
-/// residuals, against 0.27–1.79% / 0.30–4.32% with `Absolute` (the satin's back fails its
-/// highlights). The floor (10% of the RMS of f) keeps samples near F = 0, whose relative
-/// noise is unknown in real measurements (a detector's dark noise is additive), from
-/// dominating.
+/// error in the absolute metric the project reports (compared with `Absolute` in
+/// docs/notebook/2026-12-06-weaves-and-fitting.md). The floor (a tenth of the RMS of f) keeps
+/// samples near F = 0, whose relative noise is unknown in real measurements (a detector's
+/// dark noise is additive), from dominating.
 pub const DEFAULT_RESIDUAL: ResidualScale = ResidualScale::Relative { floor: 0.1 };
 
-/// The schedules of [`FitOptions::broadening_deg`] by default, one a start. Measured on the
-/// six built-in fabrics moved by ±30% (examples/fit_round_trips.rs, one start each): the
-/// satin charmeuse, whose 2° highlights sit on an eight-point curve, is recovered only from
-/// 20° down (0.4% held out; from 10° or 12° it stays at 12–22%); the crêpe de chine from 12°
-/// or 10° (0.5%, 0.3%) but not from 20° (22%); the satin's back from 12° (0.4%) but not
-/// quite from 20° or 10° (1.6% and 1.4% on uniform, 3–4% on highlight pairs). No one
-/// schedule served every fabric; these two together serve all six.
+/// The schedules of [`FitOptions::broadening_deg`] by default, one a start: the satin
+/// charmeuse, whose narrow highlights sit on an eight-point curve, is recovered only from a
+/// wide start, the crêpe de chine only from a narrower one, so no one schedule serves every
+/// fabric and these two together serve all six (the notebook of 2026-12-06 has the figures).
 pub const DEFAULT_BROADENING_DEG: [&[f64]; 2] =
     [&[20.0, 10.0, 5.0, 2.0, 0.0], &[12.0, 6.0, 3.0, 0.0]];
 

@@ -156,9 +156,8 @@ impl Parametrisation for WeaveParameters {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fit::parameters::assert_every_vector_is_valid;
     use crate::weave::NamedWeave;
-    use rand::{Rng, SeedableRng};
-    use rand_pcg::Pcg64;
 
     #[test]
     fn every_vector_within_the_bounds_is_a_valid_fabric() {
@@ -170,19 +169,7 @@ mod tests {
                 start.thread1.offsets_deg,
                 weave.fabric("w").unwrap().thread1.offsets_deg
             );
-            let mut rng = Pcg64::seed_from_u64(3);
-            for trial in 0..200 {
-                let values: Vec<f64> = parameters
-                    .parameters()
-                    .iter()
-                    .map(|p| match trial {
-                        0 => p.lower,
-                        1 => p.upper,
-                        _ => p.lower + (p.upper - p.lower) * rng.random::<f64>(),
-                    })
-                    .collect();
-                parameters.fabric(&values).validate().unwrap();
-            }
+            assert_every_vector_is_valid(&parameters, 3);
             let fixed = WeaveParameters::new(&weave, "w", Some(1.345));
             assert_eq!(fixed.parameters().len() + 2, parameters.parameters().len());
         }

@@ -144,15 +144,10 @@ impl Draft {
     /// The same cloth seen from its back: every crossing inverted, and the ends in reverse
     /// order (turning the cloth over about the warp mirrors the ends).
     pub fn back(&self) -> Self {
-        let mut back = Self::from_fn(self.ends, self.picks, |e, p| {
-            !self.warp_up(self.ends - 1 - e, p)
-        })
-        .expect("same size as a valid draft");
-        back.warp = Yarns {
-            colours: self.warp.colours.iter().rev().copied().collect(),
-            ..self.warp.clone()
-        };
-        back.weft = self.weft.clone();
+        let mut back = self.mirrored();
+        for up in &mut back.warp_up {
+            *up = !*up;
+        }
         back
     }
 

@@ -9,7 +9,8 @@ use clothbake::table::wgsl::lookup_wgsl;
 use std::process::{Command, Output};
 use std::time::Duration;
 
-fn clothbake(args: &[&str]) -> Output {
+/// Runs the `clothbake` binary with `args` and no input.
+pub(crate) fn clothbake(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_clothbake"))
         .args(args)
         .output()

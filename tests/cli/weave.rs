@@ -3,15 +3,8 @@
 
 use crate::common::*;
 
+use crate::bake::clothbake;
 use clothbake::formats::fabric_toml::FabricSet;
-use std::process::{Command, Output};
-
-fn clothbake(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_clothbake"))
-        .args(args)
-        .output()
-        .expect("spawn clothbake")
-}
 
 #[test]
 fn drawdowns_of_named_weaves() {
