@@ -21,10 +21,18 @@
 //! where none of its shafts sinks: the drawdown is the complement of the same file's with a
 //! rising shed.
 //!
+//! What real files hold beyond the letter of the format is read too, as the spec reads it or
+//! as the programs that write it mean it: a shaft or treadle number 0 in `[THREADING]`,
+//! `[TIEUP]`, `[TREADLING]` or `[LIFTPLAN]` is "unused" (the spec's initial value) and is
+//! dropped; `[TIEUP]` may tie treadles beyond `[WEAVING] Treadles` (Fiberworks PCW keeps the
+//! tie-up of treadles the treadling never presses); and `[COLOR PALETTE] Entries` counts the
+//! colours of a `[COLOR TABLE]` whose numbers may skip (1, 2 and 7 are 3 entries).
+//!
 //! Files are untrusted: the size is bounded before reading, every number is checked (shafts
-//! within `Shafts`, treadles within `Treadles`, thread numbers from 1 to the count, the counts
-//! within [`MAX_THREADS`] and [`MAX_CELLS`]) before anything sized by it is allocated, and an
-//! error names the file and the section and key, or the line, that is wrong.
+//! within `Shafts`, the treadles of `[TREADLING]` within `Treadles`, thread numbers from 1 to
+//! the count, the counts within [`MAX_THREADS`] and [`MAX_CELLS`]) before anything sized by it
+//! is allocated, and an error names the file and the section and key, or the line, that is
+//! wrong.
 
 use crate::weave::draft::{MAX_CELLS, MAX_THREADS};
 use crate::weave::{Draft, Yarns};
@@ -409,7 +417,9 @@ impl<'a> Reader<'a> {
     }
 
     /// A comma-separated list of whole numbers within `1..=most` (empty items skipped: some
-    /// programs end a list with a comma).
+    /// programs end a list with a comma). A 0 is skipped too: WIF 1.1 gives every shaft and
+    /// treadle the initial value 0, "unused", and programs write it (`3=0,2` for a pick on
+    /// treadle 2 alone, or `4=0` for an end threaded on no shaft).
     fn list(
         &self,
         section: &str,
@@ -427,12 +437,13 @@ impl<'a> Reader<'a> {
                 .ok()
                 .and_then(|n| usize::try_from(n).ok());
             match n {
+                Some(0) => {}
                 Some(n) if (1..=most).contains(&n) => items.push(n),
                 _ => {
                     return Err(self.value_error(
                         section,
                         entry,
-                        format!("{what} '{item}' is not a number from 1 to {most}"),
+                        format!("{what} '{item}' is not a number from 1 to {most} (or 0, unused)"),
                     ));
                 }
             }
@@ -597,14 +608,16 @@ impl<'a> Reader<'a> {
         Ok((min, max))
     }
 
-    /// The colour table, by index.
+    /// The colour table, by index. `[COLOR PALETTE] Entries` is checked as a number but does
+    /// not bound the indices: programs write it as the count of the table's lines, whose
+    /// numbers may skip (colours 1, 2 and 7 are `Entries=3`), so a colour is refused only
+    /// when a thread names one the table lacks.
     fn colour_table(&self, range: (f64, f64)) -> Result<Numbered<'a, [f64; 3]>, WifError> {
         const NAME: &str = "COLOR PALETTE";
-        let entries = match self.entry(NAME, "entries") {
-            Some(e) => self.count(NAME, e, &e.value, 0, MAX_PALETTE_ENTRIES)?,
-            None => MAX_PALETTE_ENTRIES,
-        };
-        self.numbered("COLOR TABLE", "colour", entries, |e| {
+        if let Some(e) = self.entry(NAME, "entries") {
+            self.count(NAME, e, &e.value, 0, MAX_PALETTE_ENTRIES)?;
+        }
+        self.numbered("COLOR TABLE", "colour", MAX_PALETTE_ENTRIES, |e| {
             self.rgb("COLOR TABLE", e, range)
         })
     }
@@ -690,7 +703,10 @@ impl<'a> Reader<'a> {
         let threading = self.numbered("THREADING", "end", MAX_THREADS, |e| {
             self.list("THREADING", e, shaft_most, "shaft")
         })?;
-        let tieup = self.numbered("TIEUP", "treadle", treadle_most, |e| {
+        // The tie-up may hold treadles past `Treadles` (Fiberworks PCW counts the treadles the
+        // treadling presses and still writes the tie-up of the tabby treadles past them); the
+        // treadling is what is held to `Treadles`.
+        let tieup = self.numbered("TIEUP", "treadle", MAX_THREADS, |e| {
             self.list("TIEUP", e, shaft_most, "shaft")
         })?;
         let treadling = self.numbered("TREADLING", "pick", MAX_THREADS, |e| {
@@ -806,12 +822,15 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_pcg::Pcg64;
 
-    const FIXTURES: [&str; 5] = [
+    const FIXTURES: [&str; 8] = [
         "twill_fiberworks_crlf.wif",
         "twill_liftplan_sinking.wif",
         "multi_treadle_multi_shaft.wif",
         "palette_65535.wif",
         "satin_private_cr_latin1.wif",
+        "zero_unused.wif",
+        "tieup_past_treadles.wif",
+        "colour_table_sparse.wif",
     ];
 
     fn fixture_path(name: &str) -> PathBuf {
@@ -921,6 +940,71 @@ mod tests {
         // Default range 0..255.
         assert_eq!(draft.warp.colours, vec![Some([1.0, 0.2, 0.0]); 5]);
         assert_eq!(draft.weft.colours, vec![None; 5]);
+    }
+
+    #[test]
+    fn zero_is_an_unused_shaft_or_treadle() {
+        let draft = load(FIXTURES[5]);
+        // End 4 (threaded on 0) never rises; end 5 (0,2) rises with shaft 2; treadle 3 (tied
+        // to 0) and pick 4 (treadle 0) lift nothing.
+        assert_eq!(draft.drawdown(), "#.....\n.#..#.\n......\n......\n##..#.\n");
+        // A 0 in a lift plan lifts nothing either, and the sinking shed still sinks the rest.
+        let lifted = format!("{PLAIN}[LIFTPLAN]\n1=0\n2=2,0\n");
+        assert_eq!(parse_wif(&lifted, "p.wif").unwrap().drawdown(), "..\n.#\n");
+        let sinking = lifted.replace("Treadles=2\n", "Treadles=2\nRising Shed=no\n");
+        assert_eq!(parse_wif(&sinking, "p.wif").unwrap().drawdown(), "##\n#.\n");
+        // Numbers past the count are still refused, and say that 0 is allowed.
+        let past = PLAIN.replacen("[THREADING]\n1=1", "[THREADING]\n1=0,3", 1);
+        assert!(error(&past).contains(
+            "[THREADING] 1 (line 9): shaft '3' is not a number from 1 to 2 (or 0, unused)"
+        ));
+    }
+
+    #[test]
+    fn the_tieup_may_tie_treadles_past_the_count() {
+        let draft = load(FIXTURES[6]);
+        assert_eq!(draft.drawdown(), "..#..#\n.#..#.\n#..#..\n");
+        // Treadles 4 and 5 are tied but not counted; pressing one is still refused.
+        let pressed = fixture_text(FIXTURES[6]).replace("[TREADLING]\n1=3", "[TREADLING]\n1=5");
+        let message = parse_wif(&pressed, "t.wif").unwrap_err().to_string();
+        assert!(message.contains("[TREADLING] 1 (line "), "{message}");
+        assert!(
+            message.contains("treadle '5' is not a number from 1 to 3"),
+            "{message}"
+        );
+        // The tie-up's shafts are still held to Shafts.
+        let shaft = fixture_text(FIXTURES[6]).replace("5=2,3", "5=2,4");
+        assert!(
+            parse_wif(&shaft, "t.wif")
+                .unwrap_err()
+                .to_string()
+                .contains("shaft '4'")
+        );
+    }
+
+    #[test]
+    fn colour_numbers_may_skip_past_the_entries() {
+        let draft = load(FIXTURES[7]);
+        assert_eq!(draft.drawdown(), "#.#.\n.#.#\n");
+        let blue = Some([0.0, 0.2, 1.0]);
+        let white = Some([1.0, 1.0, 1.0]);
+        assert_eq!(draft.warp.colours, vec![blue, white, blue, blue]);
+        assert_eq!(draft.weft.colours, vec![Some([0.0, 0.0, 0.0]); 2]);
+        // A colour the table lacks is still refused, and so is an Entries that is no number.
+        let missing = fixture_text(FIXTURES[7]).replace("Color=7", "Color=5");
+        let message = parse_wif(&missing, "c.wif").unwrap_err().to_string();
+        assert!(message.contains("[WARP] Color (line "), "{message}");
+        assert!(
+            message.contains("colour 5 is not in the [COLOR TABLE]"),
+            "{message}"
+        );
+        let entries = fixture_text(FIXTURES[7]).replace("Entries=3", "Entries=three");
+        assert!(
+            parse_wif(&entries, "c.wif")
+                .unwrap_err()
+                .to_string()
+                .contains("[COLOR PALETTE] Entries")
+        );
     }
 
     /// A small treadled plain weave, for the error tests to damage one line of.
