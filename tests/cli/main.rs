@@ -1,5 +1,5 @@
 //! The `clothbake` binary as users and scripts run it: `fabrics`, `eval`, `sample`,
-//! `albedo`, `bake`, `check`, `wgsl`.
+//! `albedo`, `bake`, `check`, `wgsl`, `weave`, `fit`.
 //!
 //! Builds without the `runtime` feature: scripts/test.sh runs this binary a second time with
 //! `--no-default-features`, against the `clothbake` binary without `render`, `view` and
@@ -14,4 +14,5 @@ mod common;
 
 mod bake;
 mod eval;
+mod fit;
 mod weave;

@@ -1,19 +1,12 @@
 //! `clothbake fit` end to end: a sample file in, a fabric file out that loads; errors exit
 //! non-zero and leave no file.
 
+use crate::bake::clothbake;
 use clothbake::fit::samples::{synthetic_samples, write_samples};
 use clothbake::fit::{LikeFabric, Parametrisation, perturbed};
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::measure::direction_sets::uniform_pairs;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn clothbake(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_clothbake"))
-        .args(args)
-        .output()
-        .expect("run clothbake")
-}
 
 fn write_sample_file(path: &Path) {
     let fabric = FabricSet::builtin().get("velvet").unwrap().clone();

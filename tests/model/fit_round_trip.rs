@@ -65,7 +65,7 @@ fn the_fit_does_not_depend_on_the_thread_count() {
     let moved = like.fabric(&perturbed(&like, 0.2, 47));
     let samples = samples_of(&moved, 150, 4800);
     let options = FitOptions {
-        starts: 2,
+        starts: Some(2),
         max_evaluations: 20,
         broadening_deg: &[&[8.0, 0.0]],
         ..FitOptions::default()
