@@ -1,11 +1,17 @@
-//! Seconds per fit (`clothbake::fit::fit`): linen_plain and silk_shot moved by ±20%, 500
-//! noisy samples, fitted like the unmoved fabric with the default options but one
-//! broadened stage ([8°, 0°]); the figure to watch when the fit's inner loop (the resonant
-//! quadrature, the finite-difference Jacobian) changes. The full round trip on all six
-//! fabrics with 2,000 samples each is `cargo run --profile ci --example fit_round_trips`.
+//! Seconds per fit (`clothbake::fit::fit`).
 //!
-//! `cargo bench --bench fit`
-
+//! `fit/…`: linen_plain and silk_shot moved by ±20%, 500 noisy samples, fitted like the
+//! unmoved fabric with the default options but one broadened stage ([8°, 0°]); the figure to
+//! watch when the fit's inner loop (the resonant quadrature, the finite-difference Jacobian)
+//! changes.
+//!
+//! `fit_2000/…`: whole fits with the default options, as users run them, on 2,000 samples
+//! (`clothbake::fit::cases`, the cases `examples/fit_round_trips.rs` measures the errors of):
+//! the slowest of each kind there, the satin charmeuse's round trip and its back by weave.
+//! About 40 s each, ten each: `cargo bench --profile ci --bench fit -- fit_2000`.
+//!
+//! `cargo bench --profile ci --bench fit`
+use clothbake::fit::cases::{CASE_SAMPLES, CaseKind, fit_case};
 use clothbake::fit::samples::synthetic_samples;
 use clothbake::fit::solve::FitOptions;
 use clothbake::fit::{LikeFabric, Parametrisation, Samples, fit, perturbed};
@@ -44,5 +50,43 @@ fn bench_fit(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_fit);
+fn bench_fit_2000(c: &mut Criterion) {
+    let mut group = c.benchmark_group("fit_2000");
+    group.sample_size(10);
+    group.warm_up_time(Duration::from_millis(100));
+    group.measurement_time(Duration::from_secs(60));
+    group.sampling_mode(SamplingMode::Flat);
+    for (name, kind, label) in [
+        (
+            "polyester_satin_charmeuse",
+            CaseKind::RoundTrip,
+            "round_trip_polyester_satin_charmeuse",
+        ),
+        (
+            "polyester_satin_charmeuse_back",
+            CaseKind::ByWeave,
+            "by_weave_polyester_satin_charmeuse_back",
+        ),
+    ] {
+        let case = fit_case(name, kind, CASE_SAMPLES).expect("a built-in woven fabric");
+        let options = FitOptions::default();
+        group.bench_function(label, |b| {
+            b.iter(|| {
+                black_box(
+                    fit(
+                        case.parametrisation.as_ref(),
+                        &case.samples,
+                        &options,
+                        &|_| {},
+                    )
+                    .unwrap()
+                    .values,
+                )
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench_fit, bench_fit_2000);
 criterion_main!(benches);

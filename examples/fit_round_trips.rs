@@ -10,29 +10,13 @@
 //!
 //! `cargo run --profile ci --example fit_round_trips [-- FABRIC... ] [--by-weave] [--absolute] [--starts N]`
 
+use clothbake::fit::cases::{CASE_SAMPLES, CaseKind, fit_case};
+use clothbake::fit::fit;
+use clothbake::fit::samples::synthetic_samples;
 use clothbake::fit::solve::{FitOptions, ResidualScale, relative_rms};
-use clothbake::fit::weave::WeaveParameters;
-use clothbake::fit::{
-    LikeFabric, Parametrisation, Samples, fit, perturbed, samples::synthetic_samples,
-};
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
-use clothbake::weave::{Fibre, NamedWeave, Weave};
 use std::time::Instant;
-
-/// The weave and fibre of a built-in fabric (`--by-weave`): the paper's five woven fabrics.
-/// Crepe de chine and shot silk are plain (taffeta) weaves; the back of a warp satin, its
-/// weft floats along x (`--back --swap`), is again a warp satin.
-fn woven_as(name: &str) -> Option<(&'static str, Fibre)> {
-    match name {
-        "linen_plain" => Some(("plain", Fibre::Linen)),
-        "silk_crepe_de_chine" | "silk_shot" => Some(("plain", Fibre::Silk)),
-        "polyester_satin_charmeuse" | "polyester_satin_charmeuse_back" => {
-            Some(("satin:5", Fibre::Polyester))
-        }
-        _ => None,
-    }
-}
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -41,7 +25,7 @@ fn main() {
     let mut verbose = false;
     let mut by_weave = false;
     let mut it = args.iter();
-    let (mut uniform_count, mut highlight_count) = (1600, 400);
+    let mut sample_count = CASE_SAMPLES;
     while let Some(a) = it.next() {
         match a.as_str() {
             "--absolute" => options.residual = ResidualScale::Absolute,
@@ -49,7 +33,7 @@ fn main() {
                 let floor = it.next().unwrap().parse().unwrap();
                 options.residual = ResidualScale::Relative { floor };
             }
-            "--starts" => options.starts = it.next().unwrap().parse().unwrap(),
+            "--starts" => options.starts = Some(it.next().unwrap().parse().unwrap()),
             "--evaluations" => options.max_evaluations = it.next().unwrap().parse().unwrap(),
             "--broaden" => {
                 // Schedules separated by '/', stages by ',': 20,10,5,2,0/10,5,2,0.
@@ -65,11 +49,7 @@ fn main() {
             }
             "--coarse" => options.coarse_samples = it.next().unwrap().parse().unwrap(),
             "--step" => options.step = it.next().unwrap().parse().unwrap(),
-            "--samples" => {
-                let total: usize = it.next().unwrap().parse().unwrap();
-                uniform_count = total * 4 / 5;
-                highlight_count = total - uniform_count;
-            }
+            "--samples" => sample_count = it.next().unwrap().parse().unwrap(),
             "--verbose" => verbose = true,
             "--by-weave" => by_weave = true,
             name => names.push(name.to_string()),
@@ -82,42 +62,26 @@ fn main() {
         "| fabric | params | fit rel. RMS | held-out (own) | uniform | highlight | start | time |"
     );
     println!("|---|---|---|---|---|---|---|---|");
+    let kind = if by_weave {
+        CaseKind::ByWeave
+    } else {
+        CaseKind::RoundTrip
+    };
     for fabric in &fabrics {
-        // Seeds by the fabric's place in the built-in set, whichever are run.
-        let k = set
-            .fabrics()
-            .iter()
-            .position(|f| f.name == fabric.name)
-            .unwrap();
-        let seed = 0x46_0000 + 16 * k as u64;
-        let like = LikeFabric::new(fabric, None);
-        let by_weave_parameters;
-        let (parametrisation, moved_values, moved): (&dyn Parametrisation, _, _) = if by_weave {
-            // The fabric itself, described by its weave and fibre alone.
-            let Some((spelling, fibre)) = woven_as(&fabric.name) else {
-                continue;
-            };
-            let draft = spelling.parse::<NamedWeave>().unwrap().draft();
-            by_weave_parameters =
-                WeaveParameters::new(&Weave::new(draft), &fabric.name, Some(fibre.eta()));
-            let start = by_weave_parameters.start();
-            (&by_weave_parameters, start, fabric.clone())
-        } else {
-            let moved_values = perturbed(&like, 0.3, seed);
-            let moved = like.fabric(&moved_values);
-            (&like, moved_values, moved)
+        let Some(case) = fit_case(&fabric.name, kind, sample_count) else {
+            continue;
         };
+        let (parametrisation, moved_values, moved, samples, seed) = (
+            case.parametrisation.as_ref(),
+            &case.truth_values,
+            &case.truth,
+            &case.samples,
+            case.seed,
+        );
         moved.validate().expect("moved fabric valid");
-        let mut pairs = uniform_pairs(uniform_count, seed + 1);
-        pairs.extend(highlight_pairs(&moved, highlight_count, seed + 2));
-        let samples = Samples {
-            samples: synthetic_samples(&moved, &pairs, 0.03, seed + 3),
-            origin: "synthetic".into(),
-            sha256: String::new(),
-        };
         let start = Instant::now();
         let stage_log = std::cell::RefCell::new(Vec::<(usize, usize, usize, f64, f64)>::new());
-        let report = fit(parametrisation, &samples, &options, &|p| {
+        let report = fit(parametrisation, samples, &options, &|p| {
             let mut log = stage_log.borrow_mut();
             let t = start.elapsed().as_secs_f64();
             match log.last_mut() {
@@ -131,11 +95,11 @@ fn main() {
         })
         .expect("fit");
         let seconds = start.elapsed().as_secs_f64();
-        let truth = |pairs: Vec<_>| synthetic_samples(&moved, &pairs, 0.0, 0);
+        let truth = |pairs: Vec<_>| synthetic_samples(moved, &pairs, 0.0, 0);
         let uniform = relative_rms(&report.fabric, &truth(uniform_pairs(1000, seed + 4)));
         let highlight = relative_rms(
             &report.fabric,
-            &truth(highlight_pairs(&moved, 1000, seed + 5)),
+            &truth(highlight_pairs(moved, 1000, seed + 5)),
         );
         println!(
             "| {} | {} | {:.2}% | {:.2}% | {:.2}% | {:.2}% | {}/{} ({} evals, {}) | {:.1} s |",
@@ -160,7 +124,7 @@ fn main() {
             for ((p, m), f) in parametrisation
                 .parameters()
                 .iter()
-                .zip(&moved_values)
+                .zip(moved_values)
                 .zip(&report.values)
             {
                 println!(

@@ -25,7 +25,8 @@ pub struct Args {
     #[arg(long)]
     weave: Option<String>,
     /// With --weave: knobs of both yarns, `key=value,...`, where the fit starts (as on
-    /// `weave`; a knob given here is still fitted, except cover, which then stays fixed).
+    /// `weave`; a knob given here is still fitted, except cover, which then stays fixed; legs,
+    /// squash and sag start no lower than 0.3, 0.3 and 5°, where the fit can move them).
     #[arg(long, default_value = "", requires = "weave")]
     yarn: String,
     /// With --weave: knobs of the warp (thread 1), `key=value,...`.
@@ -50,9 +51,9 @@ pub struct Args {
     /// cotton, wool, nylon) instead of fitting it.
     #[arg(long)]
     fibre: Option<String>,
-    /// Starts (default 2): the first ones from the fabric's own parameters, each with its own
-    /// schedule of broadened lobes, later ones from seeded perturbations of them; the best
-    /// fit is kept.
+    /// Starts (default 2 with --like, 3 with --weave): the first two from the fabric's own
+    /// parameters, each with its own schedule of broadened lobes, later ones from seeded
+    /// perturbations of them; the best fit is kept.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=64))]
     starts: Option<u32>,
     /// Hold every Nth sample out of the fit and report the error on them (0: none).
@@ -126,7 +127,7 @@ pub fn run(args: Args) -> CommandResult {
         ..FitOptions::default()
     };
     if let Some(starts) = args.starts {
-        options.starts = starts as usize;
+        options.starts = Some(starts as usize);
     }
     eprintln!(
         "fitting {} free parameters of '{}' to {} samples of {}",

@@ -6,6 +6,7 @@
 //! resonant quadrature, figures by the direct rule, the directions the samples leave
 //! unconstrained). `clothbake fit` (src/cli/fit.rs) is the command over it.
 
+pub mod cases;
 pub mod output;
 pub mod parameters;
 pub mod samples;

@@ -46,6 +46,11 @@ pub trait Parametrisation: Sync {
     fn start(&self) -> Vec<f64> {
         self.parameters().iter().map(|p| p.start).collect()
     }
+    /// How many starts a fit takes unless told ([`super::solve::FitOptions::starts`]);
+    /// `None` leaves it to the solver, one per schedule of broadened lobes.
+    fn default_starts(&self) -> Option<usize> {
+        None
+    }
 }
 
 /// Range of the refractive index η of a fibre: 1 (none) to 2, beyond every textile fibre

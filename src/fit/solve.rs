@@ -53,8 +53,9 @@ pub struct FitOptions {
     pub nodes: ResonantNodes,
     /// Starts: the first ones from the parametrisation's own values, one per schedule of
     /// [`FitOptions::broadening_deg`], later ones from seeded perturbations of them; the best
-    /// objective is kept.
-    pub starts: usize,
+    /// objective is kept. `None` takes the parametrisation's
+    /// [`Parametrisation::default_starts`], else one per schedule.
+    pub starts: Option<usize>,
     /// Seed of the perturbed starts.
     pub seed: u64,
     /// Largest move of a perturbed start, as a fraction of each parameter's range.
@@ -87,7 +88,7 @@ impl Default for FitOptions {
     fn default() -> Self {
         Self {
             nodes: ResonantNodes::DEFAULT,
-            starts: DEFAULT_BROADENING_DEG.len(),
+            starts: None,
             seed: 0x0f17_5eed,
             spread: 0.1,
             max_evaluations: 60,
@@ -497,7 +498,11 @@ pub fn fit(
         }
     };
     let start_u: Vec<f64> = parameters.iter().map(|p| u_of_value(p, p.start)).collect();
-    let starts = options.starts.max(1);
+    let starts = options
+        .starts
+        .or_else(|| parametrisation.default_starts())
+        .unwrap_or(options.broadening_deg.len())
+        .max(1);
     let patience = options.max_evaluations.div_ceil(n + 1).max(1);
     // The objective is a sum of m squared residuals, each about the noise where the model
     // fits: a relative improvement below 1/m (a change of about 1 in χ²) is within the noise,

@@ -15,6 +15,22 @@ pub const CRIMP_RANGE_DEG: (f64, f64) = (0.0, 80.0);
 pub const LEGS_RANGE: (f64, f64) = (0.0, 0.9);
 /// Range of an arc's squash: down to an ellipse of aspect 0.05.
 pub const SQUASH_RANGE: (f64, f64) = (0.0, 0.95);
+/// Range of the tilt where an arc's two pieces meet, as a share of the crimp.
+pub const KNEE_RANGE: (f64, f64) = (0.05, 0.95);
+/// Range of a float's sag: up to the steepest crimp a fit tries.
+pub const SAG_RANGE_DEG: (f64, f64) = CRIMP_RANGE_DEG;
+/// Least start of `legs`, `squash` and `sag` in a fit. At 0 each is where the fit can barely
+/// move it: `legs` and `squash` sit on their lower bound, where the bound transform's slope
+/// vanishes; `sag` at 0 is a stationary point of F (its curve's ±sag parts move in opposite
+/// directions), and at `squash` 0 the `knee` changes nothing. A yarn's own larger value is
+/// kept.
+pub const START_LEGS: f64 = 0.3;
+pub const START_SQUASH: f64 = 0.3;
+pub const START_SAG_DEG: f64 = 5.0;
+/// Starts of a fit from a weave: the two schedules of broadened lobes from the knobs, and one
+/// perturbed start. The knobs' shapes overlap (a squashed arc and straight legs both put
+/// length at large tilts), so the objective has more than one basin from a default start.
+pub const WEAVE_STARTS: usize = 3;
 /// Smallest cover factor a fit tries: a gauze.
 pub const COVER_RANGE: (f64, f64) = (0.05, 1.0);
 
@@ -25,6 +41,8 @@ enum Knob {
     Legs,
     Flatten,
     Squash,
+    Knee,
+    Sag,
     Cover,
     Eta,
     Albedo(usize),
@@ -33,10 +51,12 @@ enum Knob {
     GammaV,
 }
 
-/// The free parameters of a weave: per yarn crimp, legs, flatten, squash, cover (unless the draft's
-/// spacing and thickness or the yarn's knob fix it), η (unless a fibre fixes it), the RGB
-/// albedo A (each channel in [0, 1]), kd, γs and γv. The fabric is the weave's
-/// ([`Weave::fabric`]) with A written as `albedo = A / max A`, `albedo_scale = max A`.
+/// The free parameters of a weave: per yarn crimp, legs, squash, knee, flatten and sag (these
+/// two only where the yarn floats over more than one crossing, for they shape nothing else),
+/// cover (unless the draft's spacing and thickness or the yarn's knob fix it), η (unless a
+/// fibre fixes it), the RGB albedo A (each channel in [0, 1]), kd, γs and γv. The fabric is
+/// the weave's ([`Weave::fabric`]) with A written as `albedo = A / max A`, `albedo_scale =
+/// max A`.
 #[derive(Clone, Debug)]
 pub struct WeaveParameters {
     weave: Weave,
@@ -57,6 +77,7 @@ impl WeaveParameters {
                 yarns.spacing.is_none() || yarns.thickness.is_none()
             };
             let colour = weave.colour(family);
+            let long_floats = weave.draft.floats(family).iter().any(|&(l, _)| l > 1);
             let yarn = match family {
                 Family::Warp => &mut weave.warp,
                 Family::Weft => &mut weave.weft,
@@ -70,9 +91,23 @@ impl WeaveParameters {
                 knobs.push((j, knob));
             };
             free(Knob::Crimp, "crimp", CRIMP_RANGE_DEG, yarn.crimp_deg);
-            free(Knob::Legs, "legs", LEGS_RANGE, yarn.legs);
-            free(Knob::Flatten, "flatten", (0.0, 1.0), yarn.flatten);
-            free(Knob::Squash, "squash", SQUASH_RANGE, yarn.squash);
+            free(Knob::Legs, "legs", LEGS_RANGE, yarn.legs.max(START_LEGS));
+            free(
+                Knob::Squash,
+                "squash",
+                SQUASH_RANGE,
+                yarn.squash.max(START_SQUASH),
+            );
+            free(Knob::Knee, "knee", KNEE_RANGE, yarn.knee);
+            if long_floats {
+                free(Knob::Flatten, "flatten", (0.0, 1.0), yarn.flatten);
+                free(
+                    Knob::Sag,
+                    "sag_deg",
+                    SAG_RANGE_DEG,
+                    yarn.sag_deg.max(START_SAG_DEG),
+                );
+            }
             if cover_free {
                 free(Knob::Cover, "cover", COVER_RANGE, yarn.cover.unwrap_or(1.0));
             }
@@ -111,6 +146,10 @@ impl Parametrisation for WeaveParameters {
         &self.parameters
     }
 
+    fn default_starts(&self) -> Option<usize> {
+        Some(WEAVE_STARTS)
+    }
+
     fn fabric(&self, values: &[f64]) -> Fabric {
         let mut yarns: [Yarn; 2] = [self.weave.warp.clone(), self.weave.weft.clone()];
         let mut albedo = [[0.0; 3]; 2];
@@ -122,6 +161,8 @@ impl Parametrisation for WeaveParameters {
                 Knob::Legs => yarn.legs = v,
                 Knob::Flatten => yarn.flatten = v,
                 Knob::Squash => yarn.squash = v,
+                Knob::Knee => yarn.knee = v,
+                Knob::Sag => yarn.sag_deg = v,
                 Knob::Cover => yarn.cover = Some(v),
                 Knob::Eta => yarn.eta = v,
                 Knob::Albedo(c) => albedo[*j][*c] = v,
@@ -162,9 +203,16 @@ mod tests {
     #[test]
     fn every_vector_within_the_bounds_is_a_valid_fabric() {
         for spelling in ["plain", "twill:2/1", "satin:8", "sateen:5"] {
-            let weave = Weave::new(spelling.parse::<NamedWeave>().unwrap().draft());
+            let mut weave = Weave::new(spelling.parse::<NamedWeave>().unwrap().draft());
             let parameters = WeaveParameters::new(&weave, "w", None);
             let start = parameters.fabric(&parameters.start());
+            // The start is the weave's own knobs, raised to the least starts.
+            for yarn in [&mut weave.warp, &mut weave.weft] {
+                yarn.set_all(&format!(
+                    "legs={START_LEGS},squash={START_SQUASH},sag={START_SAG_DEG}"
+                ))
+                .unwrap();
+            }
             assert_eq!(
                 start.thread1.offsets_deg,
                 weave.fabric("w").unwrap().thread1.offsets_deg

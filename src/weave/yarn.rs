@@ -19,6 +19,13 @@ pub struct Yarn {
     /// `1 − squash` (height over half-length), in [0, 0.95]: a squashed arc bends fast near
     /// its legs and spends more of its length at small α.
     pub squash: f64,
+    /// Where the arc's two pieces per half meet, as a share of the crimp, in [0.05, 0.95]:
+    /// the tilt at which a squashed arc's fast bend near its legs gives way to its flat top.
+    pub knee: f64,
+    /// Tilt, in degrees, of a long float's own sag between its crossings, in [0, 89]: the
+    /// part that would lie flat is drawn instead as legs at ±sag joined by an arc, as a float
+    /// pulled down between the yarns it passes over.
+    pub sag_deg: f64,
     /// Cover factor, thickness over spacing, in (0, 1]; `None` takes the draft's spacing and
     /// thickness where it gives them, else 1 (no gaps).
     pub cover: Option<f64>,
@@ -42,6 +49,8 @@ impl Default for Yarn {
             legs: 0.0,
             flatten: 0.5,
             squash: 0.0,
+            knee: 0.5,
+            sag_deg: 0.0,
             cover: None,
             eta: 1.5,
             colour: None,
@@ -55,7 +64,7 @@ impl Default for Yarn {
 
 /// The keys [`Yarn::set`] takes, for help texts.
 pub const YARN_KEYS: &str = "crimp (degrees, [0, 89]), legs ([0, 0.95]), flatten ([0, 1]), squash ([0, 0.95]), \
-    cover ((0, 1]), fibre (silk, polyester, cotton, linen, wool, nylon), eta ([1, 3]), \
+    knee ([0.05, 0.95]), sag (degrees, [0, 89]), cover ((0, 1]), fibre (silk, polyester, cotton, linen, wool, nylon), eta ([1, 3]), \
     colour (#rrggbb or r/g/b in [0, 1], sRGB), albedo_scale ([0, 10]), kd ([0, 1]), \
     gamma_s and gamma_v (degrees, (0, 90])";
 
@@ -82,6 +91,8 @@ impl Yarn {
             "legs" => self.legs = number(0.0, 0.95, false)?,
             "flatten" => self.flatten = number(0.0, 1.0, false)?,
             "squash" => self.squash = number(0.0, 0.95, false)?,
+            "knee" => self.knee = number(0.05, 0.95, false)?,
+            "sag" => self.sag_deg = number(0.0, 89.0, false)?,
             "cover" => self.cover = Some(number(0.0, 1.0, true)?),
             "fibre" | "fiber" => self.eta = value.parse::<Fibre>()?.eta(),
             "eta" => self.eta = number(1.0, 3.0, false)?,
@@ -146,12 +157,15 @@ pub fn srgb_to_linear(c: f64) -> f64 {
 /// p: a straight leg at −crimp, an arc from −crimp to 0, a flat part at α = 0, an arc from 0
 /// to +crimp and a leg at +crimp. On a circle α grows linearly with arc length, so each arc
 /// is one segment of the schema; an arc squashed into an ellipse (`squash`) is drawn as two
-/// segments per half, split at half the crimp, holding the ellipse's shares of its length. A float over one crossing is one arc of length p
-/// (the paper's linen curve with no legs), with legs of total length `legs/(1 − legs)·p`, so
-/// that they hold the share `legs` of it. A float over L crossings has L − 1 more spacings,
-/// of which the share `flatten` lies flat and the rest widens the arc. The model needs only
+/// segments per half, split at the tilt `knee × crimp`, holding the ellipse's shares of its
+/// length. A float over one crossing is one arc of length p (the paper's linen curve with no
+/// legs), with legs of total length `legs/(1 − legs)·p`, so that they hold the share `legs`
+/// of it. A float over L crossings has L − 1 more spacings, of which the share `flatten`
+/// lies flat and the rest widens the arc; with `sag` the flat part is itself drawn as legs
+/// at ±sag (the share `legs` of it) and a circular arc between them. The model needs only
 /// the distribution of α along the curve (the curve mean is an integral over arc length), so
-/// the floats of a family add up, part by part, into one curve.
+/// the floats of a family add up, part by part, into one curve, and where the flat part's
+/// small curve sits within it does not matter.
 pub fn tangent_curve(floats: &[(usize, usize)], yarn: &Yarn) -> (Vec<f64>, Vec<f64>) {
     let count: usize = floats.iter().map(|&(_, n)| n).sum();
     if count == 0 || yarn.crimp_deg == 0.0 {
@@ -168,32 +182,41 @@ pub fn tangent_curve(floats: &[(usize, usize)], yarn: &Yarn) -> (Vec<f64>, Vec<f
     let (arc, flat) = (arc / count as f64, flat / count as f64);
     let legs = yarn.legs / (1.0 - yarn.legs);
     let c = yarn.crimp_deg;
-    // Each half of the arc in two pieces, split where α is half the crimp, holding the
-    // shares of the elliptic arc's length (equal on a circle, where they merge again).
-    let outer_share = ellipse_outer_share(1.0 - yarn.squash, c.to_radians());
+    // Each half of the arc in two pieces, split where α is knee × crimp, holding the shares
+    // of the elliptic arc's length (on a circle the slopes are equal and they merge again).
+    let k = yarn.knee;
+    let outer_share = ellipse_outer_share(1.0 - yarn.squash, k, c.to_radians());
     let half = arc / 2.0;
     let (outer, inner) = (half * outer_share, half * (1.0 - outer_share));
+    // The flat part's own legs and arc; at sag 0 they are all at α = 0 and merge, and with
+    // no flat part there is nothing to sag (rather than jumps of no length).
+    let s = if flat > 0.0 { yarn.sag_deg } else { 0.0 };
+    let (sag_legs, sag_arc) = (flat * yarn.legs / 2.0, flat * (1.0 - yarn.legs));
     let points = [
         (-c, legs / 2.0),
         (-c, outer),
-        (-c / 2.0, inner),
-        (0.0, flat),
+        (-k * c, inner),
+        (0.0, 0.0),
+        (-s, sag_legs),
+        (-s, sag_arc),
+        (s, sag_legs),
+        (s, 0.0),
         (0.0, inner),
-        (c / 2.0, outer),
+        (k * c, outer),
         (c, legs / 2.0),
         (c, 0.0),
     ];
     simplified(&points)
 }
 
-/// The share of an elliptic arc's length between the tilts α = c/2 and c, of its length
+/// The share of an elliptic arc's length between the tilts α = knee·c and c, of its length
 /// between 0 and c, for an ellipse of aspect `r` (height over half-length).
 ///
 /// On x = sin t, z = r cos t the tilt is α = atan(r tan t) and the arc length element is
 /// sqrt(cos² t + r² sin² t) dt; both integrals are taken by the midpoint rule in t, smooth
 /// integrands for r ≥ 0.05, so 256 nodes leave an error far below any length the fit can
 /// tell apart.
-fn ellipse_outer_share(r: f64, c: f64) -> f64 {
+fn ellipse_outer_share(r: f64, knee: f64, c: f64) -> f64 {
     let t_of = |alpha: f64| (alpha.tan() / r).atan();
     let length = |t0: f64, t1: f64| {
         let n = 256;
@@ -205,8 +228,8 @@ fn ellipse_outer_share(r: f64, c: f64) -> f64 {
             })
             .sum::<f64>()
     };
-    let (t_half, t_full) = (t_of(c / 2.0), t_of(c));
-    let (inner, outer) = (length(0.0, t_half), length(t_half, t_full));
+    let (t_knee, t_full) = (t_of(knee * c), t_of(c));
+    let (inner, outer) = (length(0.0, t_knee), length(t_knee, t_full));
     outer / (inner + outer)
 }
 
@@ -278,7 +301,57 @@ mod tests {
         assert!(lengths[1] > 2.0 * lengths[0], "{lengths:?}");
         assert!((lengths.iter().sum::<f64>() - 1.0).abs() < 1e-12);
         // A circle's two pieces per half are one segment again.
-        assert!((ellipse_outer_share(1.0, 0.5) - 0.5).abs() < 1e-12);
+        assert!((ellipse_outer_share(1.0, 0.5, 0.5) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_knee_moves_where_a_squashed_arc_bends() {
+        let yarn = Yarn {
+            crimp_deg: 32.0,
+            squash: 0.6,
+            knee: 0.5625,
+            ..Yarn::default()
+        };
+        let (offsets, _) = tangent_curve(&[(1, 1)], &yarn);
+        assert_eq!(offsets, vec![-32.0, -18.0, 18.0, 32.0]);
+        // Further out, less of the arc lies beyond the knee.
+        assert!(ellipse_outer_share(0.4, 0.7, 0.5) < ellipse_outer_share(0.4, 0.5, 0.5));
+    }
+
+    #[test]
+    fn a_sagging_float_draws_its_flat_part_as_a_small_arc_with_legs() {
+        let flat = Yarn {
+            crimp_deg: 30.0,
+            legs: 0.5,
+            flatten: 1.0,
+            ..Yarn::default()
+        };
+        let sagging = Yarn {
+            sag_deg: 5.0,
+            ..flat.clone()
+        };
+        let (offsets, lengths) = tangent_curve(&[(4, 1)], &sagging);
+        // legs 1 and arc 1 over the crossing; the flat part, 3, as legs 1.5 and arc 1.5.
+        assert_eq!(
+            offsets,
+            vec![-30.0, -30.0, 0.0, -5.0, -5.0, 5.0, 5.0, 0.0, 30.0, 30.0]
+        );
+        assert_eq!(lengths, vec![0.5, 0.5, 0.0, 0.75, 1.5, 0.75, 0.0, 0.5, 0.5]);
+        // No sag is the flat float; a float over one crossing has nothing to sag.
+        assert_eq!(
+            tangent_curve(
+                &[(4, 1)],
+                &Yarn {
+                    sag_deg: 0.0,
+                    ..sagging.clone()
+                }
+            ),
+            tangent_curve(&[(4, 1)], &flat)
+        );
+        assert_eq!(
+            tangent_curve(&[(1, 1)], &sagging),
+            tangent_curve(&[(1, 1)], &flat)
+        );
     }
 
     #[test]
@@ -296,6 +369,8 @@ mod tests {
             ("colour=#12", "colour"),
             ("colour=1/2/0", "colour"),
             ("twist=3", "unknown yarn knob"),
+            ("knee=1", "knee"),
+            ("sag=-1", "sag"),
             ("crimp", "key=value"),
             ("eta=NaN", "eta"),
         ] {

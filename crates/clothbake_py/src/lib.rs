@@ -813,9 +813,9 @@ fn values_of(
 /// held out and measured after the fit. It starts from `like` (a `Fabric`, whose parameters
 /// are fitted with its structure kept) or from `weave` (a draft's spelling, whose yarn knobs
 /// are fitted, starting from `yarn`, `warp`, `weft`, `back`, `swap` as in `weave()`).
-/// `fibre` fixes η of both threads to a fibre's; `starts` sets the number of starts (default 2:
-/// the fabric's own values under two schedules of broadened lobes; more add seeded
-/// perturbations);
+/// `fibre` fixes η of both threads to a fibre's; `starts` sets the number of starts (default 2
+/// with `like`, the fabric's own values under two schedules of broadened lobes, 3 with
+/// `weave`; more add seeded perturbations);
 /// `name` names the fitted fabric. Returns the fabric and a report dict.
 #[pyfunction]
 #[pyo3(signature = (
@@ -906,7 +906,7 @@ fn fit<'py>(
         ..FitOptions::default()
     };
     if let Some(starts) = starts {
-        options.starts = starts;
+        options.starts = Some(starts);
     }
     let report = py
         .detach(|| -> Result<FitReport, String> {
