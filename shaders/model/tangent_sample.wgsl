@@ -140,7 +140,7 @@ fn cloth_sample_terms(p: ClothSamplePair, m: ClothSampleMaterial, cos_a: f32, si
     let cos_half_phi_d = phi.y;
     let shadowing_m = cloth_sample_reweighted(u_phi, mi, mo);
 
-    // θh and cos²θd as `half_angle_and_difference` (src/model/patch.rs) takes them: (|w⊥|, w·t)
+    // θh and cos²θd as `half_angle_and_difference` (src/model/sample.rs) takes them: (|w⊥|, w·t)
     // is each direction's (cos θ, sin θ), of length |w| = 1, so their sum is
     // 2 cos θd (cos θh, sin θh). Its x is a sum of non-negative terms, so cos²θd keeps its
     // relative accuracy as both directions approach ±t, where y cancels.

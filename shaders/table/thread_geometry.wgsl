@@ -1,5 +1,5 @@
 // One thread tabulated in its resonant frame: the f32 lookup of a `ThreadGeometry` of
-// src/table/thread_frame.rs (`ThreadGeometry::coordinates`, `ThreadGeometry::sample`), after
+// src/table/thread/ (`ThreadGeometry::coordinates`, `ThreadGeometry::sample`), after
 // shaders/table/lookup.wgsl (its sampler). Axes and warps: src/table/axis.rs (`Warp::unit`,
 // `Axis::locate`). Required by the layouts that store threads this way (thread_frame.wgsl,
 // split_frame.wgsl); their generated `table_constants` define `cloth_threadJ` functions

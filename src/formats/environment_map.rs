@@ -5,8 +5,7 @@ use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
-use crate::lighting::EnvironmentError;
-use crate::lighting::environment::check_size;
+use crate::lighting::errors::{EnvironmentError, check_size};
 
 /// How much of a Radiance file's start may hold its header and dimension line. The image
 /// crate reads header lines without a length limit, so a file without newlines would be

@@ -44,7 +44,7 @@ use std::path::{Path, PathBuf};
 /// 5: thread_frame and split_frame 4D texels hold the least-squares quadrilinear fit
 /// instead of point samples ([`crate::table::prefilter`]); odd v counts.
 /// 6: the model's θh and cos θd from one atan2 of the summed half-plane directions
-/// (`model::patch::half_angle_and_difference`) instead of two atan2 and a cos: equal up
+/// (`model::sample::half_angle_and_difference`) instead of two atan2 and a cos: equal up
 /// to rounding, which flips a few f16 texels.
 /// 7: the βH axis of a thread whose curve jumps (velvet's thread 2) puts its texels on the
 /// bands of its segments' ridges, and fewer on the gap between them.

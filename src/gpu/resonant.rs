@@ -18,7 +18,7 @@
 use super::resonant_kernel::{resonant_rules_wgsl, resonant_thread_wgsl};
 use super::{GpuBrdf, GpuContext, GpuError};
 use crate::model::Fabric;
-use crate::model::resonant::ResonantNodes;
+use crate::model::ResonantNodes;
 use crate::shader::{self, Composer};
 use crate::table::wgsl::{wgsl_f32, wgsl_vec};
 use std::fmt::Write;

@@ -12,9 +12,9 @@ use crate::model::curve::{Integration, curve_pieces};
 use crate::model::fabric::ModelOptions;
 use crate::model::resonant::{
     FLAT_LOBE_SPAN, GaussLegendre, LOBE_Z_RANGE, MIN_NODES_PER_PART, NEGLIGIBLE_LOBE_Z,
-    ResonantNodes, SPLIT_TOLERANCE, TAIL_MASS,
+    SPLIT_TOLERANCE, TAIL_MASS,
 };
-use crate::table::thread_frame::thread_frame_of;
+use crate::model::{ResonantNodes, thread_axes};
 use crate::table::wgsl::{degenerate_threshold, unit_area_gaussian, wgsl_f32, wgsl_vec};
 use std::fmt::Write;
 
@@ -81,7 +81,7 @@ pub fn resonant_thread_wgsl(fabric: &Fabric, j: usize, nodes: ResonantNodes) -> 
     let w = &mut out;
     let options = fabric.options;
     let thread = fabric.threads()[j];
-    let (t0, b) = thread_frame_of(j);
+    let (t0, b) = thread_axes(j);
     let sigma_s = options.lobe_sigma_deg(thread.gamma_s_deg).to_radians();
     let sigma_v = options.lobe_sigma_deg(thread.gamma_v_deg).to_radians();
     let [ks, ps] = unit_area_gaussian(sigma_s);

@@ -36,7 +36,7 @@
 //! # Untrusted files
 //!
 //! Environment files come from users: the dimensions are read from the header and checked
-//! against [`MAX_SIDE`] and [`MAX_TEXELS`] before any texel is allocated, a truncated or
+//! against [`MAX_SIDE`](super::MAX_SIDE) and [`MAX_TEXELS`](super::MAX_TEXELS) before any texel is allocated, a truncated or
 //! corrupt file is an error naming the file, and so is a texel that is not finite (naming the
 //! texel as well). Nothing read from a file panics.
 //!
@@ -49,19 +49,12 @@
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::GeneratedEnvironment;
+use super::errors::{ContentError, EnvironmentError, check_size};
 use super::mip::Level;
 use crate::formats::environment_map::{read_exr, read_hdr};
-
-/// Largest width or height accepted, in texels: a 16K equirectangular map.
-pub const MAX_SIDE: u32 = 16384;
-
-/// Largest number of level-0 texels accepted: a 16384×8192 map, the largest equirectangular
-/// size in common use. It bounds what an untrusted header can make us allocate (1.5 GiB of
-/// f32 RGB, plus a third of that for the mip chain).
-pub const MAX_TEXELS: u64 = 16384 * 8192;
 
 /// The equirectangular coordinates `(u, v)` of a world direction (see the module
 /// documentation). `direction` need not be unit length; a zero or non-finite one maps to
@@ -82,38 +75,6 @@ pub fn equirect_direction(uv: DVec2) -> DVec3 {
     let (sin_theta, cos_theta) = theta.sin_cos();
     let (sin_phi, cos_phi) = phi.sin_cos();
     DVec3::new(sin_theta * sin_phi, cos_theta, -sin_theta * cos_phi)
-}
-
-/// What is wrong with a map's size or texels, wherever they came from.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum ContentError {
-    /// A side is zero or above [`MAX_SIDE`], or there are more than [`MAX_TEXELS`] texels.
-    #[error(
-        "{width}x{height} texels: each side must be 1..={MAX_SIDE} and the map at most {MAX_TEXELS} texels"
-    )]
-    Size { width: u64, height: u64 },
-    /// The texel slice does not hold `width·height` texels.
-    #[error("{count} texels given for a {width}x{height} map")]
-    Count {
-        width: u32,
-        height: u32,
-        count: usize,
-    },
-    /// A texel is not finite or has a negative channel.
-    #[error("texel ({col}, {row}) holds {value:?}: radiance must be finite and non-negative")]
-    Texel { col: u32, row: u32, value: [f32; 3] },
-    /// A file's texel is more negative than the map's mean radiance: signed data, not the
-    /// small negative residue that [`Environment::load`] clamps.
-    #[error(
-        "texel ({col}, {row}) holds {value:?}, more negative than the map's mean radiance \
-         {mean:.3e}: not a radiance map"
-    )]
-    Negative {
-        col: u32,
-        row: u32,
-        value: [f32; 3],
-        mean: f64,
-    },
 }
 
 /// The negative texels of a file that [`Environment::load`] clamped to zero.
@@ -143,54 +104,6 @@ impl std::fmt::Display for ClampedNegatives {
     }
 }
 
-/// Why an environment could not be made or read.
-#[derive(Debug, thiserror::Error)]
-pub enum EnvironmentError {
-    /// The file could not be opened or read.
-    #[error("environment {path}: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
-    /// The file name ends in neither `.hdr` nor `.exr`.
-    #[error(
-        "environment {path}: unknown extension, expected .hdr (Radiance RGBE) or .exr (OpenEXR)"
-    )]
-    UnknownExtension { path: PathBuf },
-    /// The Radiance decoder rejected the file: a bad header, truncated or corrupt pixels.
-    #[error(
-        "environment {path}: not a readable Radiance .hdr file (truncated or corrupt): {source}"
-    )]
-    Hdr {
-        path: PathBuf,
-        source: hdr_image::ImageError,
-    },
-    /// The OpenEXR reader rejected the file: a bad header, truncated or corrupt pixels.
-    #[error("environment {path}: not a readable OpenEXR file (truncated or corrupt): {source}")]
-    Exr {
-        path: PathBuf,
-        source: exr::error::Error,
-    },
-    /// The file is readable but not usable as an environment (no RGB layer, subsampled
-    /// channels, an oversized header).
-    #[error("environment {path}: {message}")]
-    Invalid { path: PathBuf, message: String },
-    /// The file's size or texels are out of bounds.
-    #[error("environment {path}: {problem}")]
-    Content {
-        path: PathBuf,
-        problem: ContentError,
-    },
-    /// Texels given to [`Environment::from_texels`] are out of bounds.
-    #[error("environment texels: {0}")]
-    Texels(ContentError),
-    /// An empty `--env` word.
-    #[error(
-        "environment source is empty: give none, default, studio, sky, overcast, interior, uniform or a file path"
-    )]
-    EmptySource,
-}
-
 /// Distant environment lighting: an equirectangular radiance map and its mip chain.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Environment {
@@ -202,8 +115,8 @@ pub struct Environment {
 
 impl Environment {
     /// An environment from `width`×`height` level-0 texels (row-major, row 0 the top row,
-    /// linear RGB radiance). Any aspect ratio is accepted; sides must be 1..=[`MAX_SIDE`],
-    /// at most [`MAX_TEXELS`] in all, and every value finite and non-negative.
+    /// linear RGB radiance). Any aspect ratio is accepted; sides must be 1..=[`MAX_SIDE`](super::MAX_SIDE),
+    /// at most [`MAX_TEXELS`](super::MAX_TEXELS) in all, and every value finite and non-negative.
     pub fn from_texels(
         width: u32,
         height: u32,
@@ -364,16 +277,6 @@ impl Environment {
     pub fn mean_radiance(&self) -> DVec3 {
         self.levels[0].mean_radiance()
     }
-}
-
-/// Sides 1..=MAX_SIDE and at most MAX_TEXELS texels (u64 so that a header's sizes cannot
-/// overflow the product).
-pub(crate) fn check_size(width: u64, height: u64) -> Result<(), ContentError> {
-    let side = 1..=MAX_SIDE as u64;
-    if !side.contains(&width) || !side.contains(&height) || width * height > MAX_TEXELS {
-        return Err(ContentError::Size { width, height });
-    }
-    Ok(())
 }
 
 /// Clamps a file's slightly negative texels to zero (see the module documentation). Refuses

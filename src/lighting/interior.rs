@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::generated::{direction_deg, soft_lobe};
+use super::shapes::{direction_deg, soft_lobe};
 
 /// A window: a rectangle in azimuth and elevation (degrees) showing a bright sky, split by a
 /// vertical mullion at its middle.

@@ -4,18 +4,18 @@
 
 pub mod bright_sources;
 pub mod environment;
+pub(crate) mod errors;
 mod generated;
 pub mod interior;
 mod mip;
+mod shapes;
 pub mod sky;
 mod source;
 mod studio;
 
 pub use bright_sources::{DistantSource, SplitEnvironment, disk_above_horizon};
-pub use environment::{
-    ClampedNegatives, ContentError, Environment, EnvironmentError, MAX_SIDE, MAX_TEXELS,
-    equirect_direction, equirect_uv,
-};
+pub use environment::{ClampedNegatives, Environment, equirect_direction, equirect_uv};
+pub use errors::{ContentError, EnvironmentError, MAX_SIDE, MAX_TEXELS};
 pub use generated::GeneratedEnvironment;
 pub use mip::Level;
 pub use source::EnvironmentSource;

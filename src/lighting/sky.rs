@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::generated::{direction_deg, soft_lobe};
+use super::shapes::{direction_deg, soft_lobe};
 
 /// The sun's elevation and azimuth (degrees; azimuth 0 along +z, 90° along +x): in front
 /// of the cloth and to the left of the default camera, high enough to light the drape's top.

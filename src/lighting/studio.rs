@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::generated::soft_lobe;
+use super::shapes::soft_lobe;
 
 /// One soft box of the studio: `peak·colour·exp(sharpness·(cos α − 1))`, α the angle from
 /// `towards`.

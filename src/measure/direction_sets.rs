@@ -45,11 +45,7 @@ pub fn highlight_pairs(fabric: &Fabric, count: usize, seed: u64) -> Vec<(DVec3, 
         } else {
             0
         };
-        let (t0, b) = if j == 0 {
-            (DVec3::X, DVec3::Y)
-        } else {
-            (DVec3::Y, DVec3::X)
-        };
+        let (t0, b) = crate::model::thread_axes(j);
         let mut pick = rng.random::<f64>();
         let piece = pieces[j]
             .iter()

@@ -9,8 +9,9 @@ pub mod fabric;
 pub mod lobes;
 pub mod patch;
 pub mod resonant;
+pub mod sample;
 
-pub use curve::Integration;
+pub use curve::{Integration, NodeCountError, ResonantNodes};
 pub use fabric::{Fabric, FabricError, GaussianWidth, ModelOptions, TangentSampling, Thread};
-pub use patch::{Patch, PatchTerms, ThreadMeans};
-pub use resonant::{NodeCountError, ResonantNodes};
+pub use patch::{Patch, PatchTerms};
+pub use sample::{ThreadMeans, thread_axes};

@@ -6,6 +6,9 @@ use super::curve::{CurvePiece, Integration, curve_pieces};
 use super::fabric::{Fabric, Thread};
 use super::lobes::{ThreadLobes, UnitHeightGaussian, fresnel_dielectric};
 use super::resonant::{ResonantCost, ResonantRule};
+use super::sample::{
+    PairInThreadFrame, SampleTerms, ThreadMeans, half_angle_and_difference, thread_axes,
+};
 use glam::DVec3;
 
 /// Below this length a projection of a unit direction counts as degenerate (the direction is
@@ -13,18 +16,6 @@ use glam::DVec3;
 /// the components, so a residual length of 1e-9 carries no direction; the sample then
 /// contributes 0 to s and to P, as docs/model.md#degenerate-projections prescribes.
 pub const DEGENERATE_PROJECTION: f64 = 1e-9;
-
-/// The curve means of one thread, split so that the RGB albedo factors out:
-/// `⟨s⟩ = reflection + A · transmission`, and `masking = ⟨P⟩`.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ThreadMeans {
-    /// `⟨Fr cos(φd/2) g(γs, θh) M P cos θi / cos²θd⟩`
-    pub reflection: f64,
-    /// `⟨Ft ((1 − kd) g(γv, θh) + kd) M P cos θi / ((cos θi + cos θo) cos²θd)⟩`
-    pub transmission: f64,
-    /// `⟨P⟩`
-    pub masking: f64,
-}
 
 /// `F` split into a grey surface term and one volume term per thread:
 /// `F = reflection + A1 · transmission[0] + A2 · transmission[1]`, every term already
@@ -54,26 +45,6 @@ pub struct ThreadModel {
     resonant: Option<ResonantRule>,
 }
 
-/// θh = (θi + θo)/2 and cos θd = cos((θi − θo)/2) from each direction's `(cos θ, sin θ)` up
-/// to a positive scale: `(|w⊥|, w·t)` with θ = atan2(w·t, |w⊥|) as docs/model.md#angles-of-a-direction defines it.
-///
-/// The sum of the unit vectors at angles θi and θo is `2 cos θd · (cos θh, sin θh)`, and
-/// cos θd ≥ 0 because |θi − θo| ≤ π (both |w⊥| ≥ 0). So one atan2 of the sum gives θh and
-/// its length gives cos θd: the same values as two atan2 and a cos up to rounding (about
-/// 1e-16 absolute in cos θd, and 1e-16/cos θd in θh, which grows only where wi and wo lie
-/// within a hair of +t and −t, far inside any lobe's width), at about half the cost of the
-/// transcendental calls that dominate the curve means.
-#[inline]
-pub(crate) fn half_angle_and_difference(
-    (cos_i, sin_i): (f64, f64),
-    (cos_o, sin_o): (f64, f64),
-) -> (f64, f64) {
-    let length = |c: f64, s: f64| (c * c + s * s).sqrt();
-    let (li, lo) = (length(cos_i, sin_i), length(cos_o, sin_o));
-    let (x, y) = (cos_i / li + cos_o / lo, sin_i / li + sin_o / lo);
-    (y.atan2(x), 0.5 * length(x, y))
-}
-
 /// `(1 − u)·a·b + u·min(a, b)`: the reweighted product of M and P (docs/model.md#reweighting).
 #[inline]
 fn reweighted(u: f64, a: f64, b: f64) -> f64 {
@@ -85,11 +56,7 @@ impl ThreadModel {
     pub fn new(fabric: &Fabric, index: usize, integration: Integration) -> Self {
         let thread: &Thread = fabric.threads()[index];
         let options = fabric.options;
-        let (t0, b) = if index == 0 {
-            (DVec3::X, DVec3::Y)
-        } else {
-            (DVec3::Y, DVec3::X)
-        };
+        let (t0, b) = thread_axes(index);
         let sigma_s = options.lobe_sigma_deg(thread.gamma_s_deg);
         let sigma_v = options.lobe_sigma_deg(thread.gamma_v_deg);
         let pieces = curve_pieces(thread, &options, integration)
@@ -115,11 +82,6 @@ impl ThreadModel {
                 _ => None,
             },
         }
-    }
-
-    /// The quadrature pieces, with (cos, sin) of their start.
-    pub(crate) fn pieces(&self) -> &[(CurvePiece, f64, f64)] {
-        &self.pieces
     }
 
     /// Most tangent samples one evaluation visits, for the direct, baking and paper rules
@@ -157,10 +119,10 @@ impl ThreadModel {
         let Some(pair) = self.pair_frame(wi, wo) else {
             return ThreadMeans::default();
         };
-        let facing = pair.facing();
         if let Some(rule) = &self.resonant {
-            return rule.means(self, &pair, facing).0;
+            return self.resonant_rule_means(rule, &pair).0;
         }
+        let facing = pair.facing();
         let mut sums = ThreadMeans::default();
         for &(piece, cos_start, sin_start) in &self.pieces {
             if piece.start == piece.end {
@@ -207,9 +169,19 @@ impl ThreadModel {
     pub fn resonant_means(&self, wi: DVec3, wo: DVec3) -> Option<(ThreadMeans, ResonantCost)> {
         let rule = self.resonant.as_ref()?;
         Some(match self.pair_frame(wi, wo) {
-            Some(pair) => rule.means(self, &pair, pair.facing()),
+            Some(pair) => self.resonant_rule_means(rule, &pair),
             None => Default::default(),
         })
+    }
+
+    /// `rule`'s means of this thread's curve for `pair`, and what they cost.
+    fn resonant_rule_means(
+        &self,
+        rule: &ResonantRule,
+        pair: &PairInThreadFrame,
+    ) -> (ThreadMeans, ResonantCost) {
+        let sample = |cos_a: f64, sin_a: f64| self.sample(pair, cos_a, sin_a);
+        rule.means(&self.pieces, sample, pair, pair.facing())
     }
 
     /// The pair in this thread's fixed axes; `None` where a direction is parallel to b.
@@ -306,47 +278,6 @@ impl ThreadModel {
             volume: transmission * (1.0 - self.kd) * volume,
             diffuse: transmission * self.kd,
         })
-    }
-}
-
-/// The integrand of one tangent sample, split by the lobe each part follows in α:
-/// `s = reflection + A · (volume + diffuse)`, and `P = masking`.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct SampleTerms {
-    /// P
-    pub masking: f64,
-    /// `Fr cos(φd/2) g(γs, θh) M P cos θi / cos²θd`: follows the surface lobe.
-    pub reflection: f64,
-    /// `Ft (1 − kd) g(γv, θh) M P cos θi / ((cos θi + cos θo) cos²θd)`: the volume lobe.
-    pub volume: f64,
-    /// `Ft kd M P cos θi / ((cos θi + cos θo) cos²θd)`: no lobe.
-    pub diffuse: f64,
-}
-
-/// The components of a direction pair in a thread's fixed axes {t0, b, z}, with the
-/// α-independent parts of P.
-pub(crate) struct PairInThreadFrame {
-    pub ti0: f64,
-    pub zi: f64,
-    pub bi: f64,
-    pub to0: f64,
-    pub zo: f64,
-    pub bo: f64,
-    pub par_i: f64,
-    pub par_o: f64,
-    pub u_psi: f64,
-}
-
-impl PairInThreadFrame {
-    /// The facing window: the α interval where both directions face the tangent sample
-    /// (w·n(α) > 0). Only the curve rules need it, not single samples.
-    pub fn facing(&self) -> (f64, f64) {
-        let half_pi = std::f64::consts::FRAC_PI_2;
-        let (delta_i, delta_o) = (self.ti0.atan2(self.zi), self.to0.atan2(self.zo));
-        (
-            (-half_pi - delta_i).max(-half_pi - delta_o),
-            (half_pi - delta_i).min(half_pi - delta_o),
-        )
     }
 }
 

@@ -31,69 +31,9 @@
 //! - A flat segment (all of its share at one α, e.g. satin's floats) is one node for every
 //!   term.
 
-use super::patch::{
-    PairInThreadFrame, SampleTerms, ThreadMeans, ThreadModel, half_angle_and_difference,
-};
+use super::curve::{CurvePiece, ResonantNodes};
+use super::sample::{PairInThreadFrame, SampleTerms, ThreadMeans, half_angle_and_difference};
 use std::f64::consts::{FRAC_1_SQRT_2, PI};
-
-/// Node counts of the resonant quadrature, per curve segment: Gauss–Legendre nodes for the
-/// surface lobe, for the volume lobe, and for the lobe-free terms.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-pub struct ResonantNodes {
-    pub surface: u32,
-    pub volume: u32,
-    pub base: u32,
-}
-
-impl ResonantNodes {
-    /// Most nodes of one kind per segment.
-    pub const MAX: u32 = 16;
-
-    /// The default counts: measured against 5/3/2, 5/4/2 and 6/4/2, the cheapest with every
-    /// built-in fabric within 0.25% relative RMS of the direct rule with margin on 20,000
-    /// uniform and 20,000 highlight pairs (worst 0.20%, crepe's highlight pairs; 5/4/2 reaches
-    /// 0.22%), at 12–32 evaluations per light (tests/model/resonant.rs).
-    pub const DEFAULT: Self = Self {
-        surface: 6,
-        volume: 5,
-        base: 2,
-    };
-
-    /// Checks every count is in 1..=[`Self::MAX`], naming the one that is not.
-    pub fn validate(&self) -> Result<(), NodeCountError> {
-        for (kind, count) in [
-            ("surface", self.surface),
-            ("volume", self.volume),
-            ("base", self.base),
-        ] {
-            if !(1..=Self::MAX).contains(&count) {
-                return Err(NodeCountError { kind, count });
-            }
-        }
-        Ok(())
-    }
-}
-
-/// A node count of [`ResonantNodes`] outside 1..=[`ResonantNodes::MAX`].
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("resonant {kind} nodes must be in 1..={max}, got {count}", max = ResonantNodes::MAX)]
-pub struct NodeCountError {
-    /// "surface", "volume" or "base".
-    pub kind: &'static str,
-    pub count: u32,
-}
-
-impl Default for ResonantNodes {
-    fn default() -> Self {
-        Self::DEFAULT
-    }
-}
-
-impl std::fmt::Display for ResonantNodes {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}/{}/{}", self.surface, self.volume, self.base)
-    }
-}
 
 /// A lobe that spans at most this many standard deviations across a (clipped) segment is
 /// integrated on the base nodes, their count raised to the lobe's: over so short a stretch
@@ -302,11 +242,14 @@ impl ResonantRule {
         &self.gauss_legendre[n - 1]
     }
 
-    /// The curve means of `model`'s thread for `pair`, whose facing window is `facing`
-    /// (α interval where both directions face the tangent sample), and what they cost.
+    /// The curve means of a thread for `pair`, whose facing window is `facing` (α interval
+    /// where both directions face the tangent sample), and what they cost: the thread's
+    /// quadrature `pieces` (with (cos, sin) of their start), and `sample`, its terms at the
+    /// tangent sample of (cos α, sin α).
     pub(crate) fn means(
         &self,
-        model: &ThreadModel,
+        pieces: &[(CurvePiece, f64, f64)],
+        sample: impl Fn(f64, f64) -> Option<SampleTerms>,
         pair: &PairInThreadFrame,
         facing: (f64, f64),
     ) -> (ThreadMeans, ResonantCost) {
@@ -315,13 +258,13 @@ impl ResonantRule {
         let mut add = |alpha: f64, weight: f64, terms: Terms| {
             cost.samples += 1;
             let (sin_a, cos_a) = alpha.sin_cos();
-            if let Some(s) = model.sample(pair, cos_a, sin_a) {
+            if let Some(s) = sample(cos_a, sin_a) {
                 add_terms(&mut sums, &s, weight, terms);
             }
         };
         let resonant = -(pair.ti0 + pair.to0).atan2(pair.zi + pair.zo);
         let kinks = kinks(pair, facing);
-        for &(piece, _, _) in model.pieces() {
+        for &(piece, _, _) in pieces {
             if piece.start == piece.end {
                 if piece.start > facing.0 && piece.start < facing.1 {
                     add(piece.start, piece.weight, Terms::ALL);

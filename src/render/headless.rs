@@ -3,7 +3,7 @@
 //! back to the CPU. The read-back (copy, map, unpad rows) lives here and nowhere else.
 
 use super::image::{LinearImage, Rgba8Image};
-use super::renderer::check_gbuffer_support;
+use super::targets::{check_gbuffer_support, target};
 use super::{
     DEPTH_FORMAT, FrameSettings, FrameTargets, FrameTiming, GBUFFER_FORMAT, GBufferTargets,
     LINEAR_FORMAT, PassTimestamps, Renderer, TimingSource,
@@ -225,29 +225,6 @@ impl Headless {
             normal,
         })
     }
-}
-
-pub(super) fn target(
-    context: &GpuContext,
-    name: &str,
-    format: wgpu::TextureFormat,
-    width: u32,
-    height: u32,
-) -> wgpu::Texture {
-    context.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(name),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    })
 }
 
 /// RGBA f32 texels from little-endian bytes (no alignment assumed).

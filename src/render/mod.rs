@@ -38,6 +38,7 @@ mod frame;
 mod headless;
 mod lights;
 mod renderer;
+mod targets;
 mod timing;
 
 pub use camera::Camera;
@@ -47,9 +48,10 @@ pub use headless::{GBuffer, HEADLESS_COLOR_FORMAT, Headless, MAX_IMAGE_SIDE, Ren
 pub use lights::LightSource;
 #[cfg(test)]
 pub(crate) use renderer::STUB_BRDF_WGSL;
-pub use renderer::{
-    DEPTH_FORMAT, FrameTargets, GBUFFER_FORMAT, GBufferTargets, LINEAR_FORMAT, LINEAR_FORMAT_F16,
-    RENDER_MODULE, Renderer, float32_renderable, linear_format, render_wgsl,
+pub use renderer::{FrameTargets, GBufferTargets, RENDER_MODULE, Renderer, render_wgsl};
+pub use targets::{
+    DEPTH_FORMAT, GBUFFER_FORMAT, LINEAR_FORMAT, LINEAR_FORMAT_F16, float32_renderable,
+    linear_format,
 };
 pub(crate) use timing::PassTimestamps;
 pub use timing::{FrameTiming, TimingSource, median};

@@ -6,8 +6,8 @@
 use super::FrameSettings;
 use super::environment_map::{EnvironmentFrame, GpuEnvironment, lighting_group, lighting_layout};
 use super::frame::FrameUniform;
-use super::headless::target;
 use super::image;
+use super::targets::{DEPTH_FORMAT, GBUFFER_FORMAT, check_gbuffer_support, linear_format};
 use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampleTaps};
 use crate::scene::mesh::{Mesh, Vertex};
 use std::collections::HashMap;
@@ -20,47 +20,6 @@ pub const RENDER_MODULE: &str = "render/renderer";
 /// A `cloth_brdf` that returns 0, for the G-buffer pipeline (which never calls it).
 pub(crate) const STUB_BRDF_WGSL: &str =
     "fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> { return vec3<f32>(0.0); }\n";
-
-/// Depth buffer format of every pass.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// Format of the linear-radiance target (alpha = coverage) where the device can render to
-/// it (Vulkan, Metal, DX12); see [`linear_format`].
-pub const LINEAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// The fallback linear format (wgpu's GL backend cannot render to 32-bit float): relative
-/// rounding 2^-11, largest value 65504.
-pub const LINEAR_FORMAT_F16: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Format of the three G-buffer targets (position, tangent, normal): 32-bit only, as f16
-/// positions would move the reference's directions by ~1e-3 rad.
-pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-
-/// Fails with a clear message where the device cannot render to [`GBUFFER_FORMAT`].
-pub(super) fn check_gbuffer_support(context: &GpuContext) -> Result<(), GpuError> {
-    if float32_renderable(context) {
-        return Ok(());
-    }
-    Err(GpuError::Invalid {
-        name: "G-buffer (CPU reference)".into(),
-        message: "needs Rgba32Float render targets, which this device lacks (wgpu's GL \
-                  backend); use Vulkan (lavapipe without a GPU), Metal or DX12"
-            .into(),
-    })
-}
-
-/// Whether the device can render to `Rgba32Float` (tried on a 1×1 texture).
-pub fn float32_renderable(context: &GpuContext) -> bool {
-    context
-        .checked(|| target(context, "probe", wgpu::TextureFormat::Rgba32Float, 1, 1))
-        .is_ok()
-}
-
-/// The linear-radiance format for this device: [`LINEAR_FORMAT`], else [`LINEAR_FORMAT_F16`].
-pub fn linear_format(context: &GpuContext) -> wgpu::TextureFormat {
-    if float32_renderable(context) {
-        LINEAR_FORMAT
-    } else {
-        LINEAR_FORMAT_F16
-    }
-}
 
 /// The targets of one frame. `linear` may be given only when the renderer was made with a
 /// linear output (of [`Renderer::linear_format`]); without it the frame is the display image

@@ -32,6 +32,7 @@
 //! [`rerender`] rewrites the page from report.json without measuring anything.
 
 mod files;
+mod format;
 pub mod gpu;
 pub mod markdown;
 mod measure;

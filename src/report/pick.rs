@@ -5,7 +5,7 @@
 //! points within the need's budget (the constants below), so a new run, or a re-render of
 //! report.json ([`super::rerender`]), rewrites it with the figures it rests on.
 
-use super::markdown::{num, pct, size};
+use super::format::{num, pct, size};
 use super::{Evaluation, FabricReport, Report, plots};
 use std::fmt::{self, Write};
 
@@ -29,7 +29,7 @@ pub const CPU_ERROR: f64 = 0.01;
 /// Largest error of an evaluation of the model without a bake at reference quality:
 /// 0.25%, the bound [`ResonantNodes::DEFAULT`] was chosen to meet.
 ///
-/// [`ResonantNodes::DEFAULT`]: crate::model::resonant::ResonantNodes::DEFAULT
+/// [`ResonantNodes::DEFAULT`]: crate::model::ResonantNodes::DEFAULT
 pub const NO_BAKE_ERROR: f64 = 0.0025;
 
 /// What a reader needs F for; one row of the section each.

@@ -2,7 +2,7 @@
 //! error budget the cheapest table, paper-mode N and resonant node counts, and every table's
 //! verdict.
 
-use super::markdown::{num, paper_n, pct, ratio, size};
+use super::format::{num, paper_n, pct, ratio, size};
 use super::{Comparison, Evaluation, FabricReport, Point, Report};
 use crate::table::Layout;
 use std::fmt::Write;

@@ -39,7 +39,6 @@
 //! and then z inside it; u2 the column and then the azimuth inside it.
 
 pub mod environment;
-pub mod moments;
 pub mod taps;
 
 pub use environment::{EnvironmentSampler, SAMPLER_MAX_WIDTH};

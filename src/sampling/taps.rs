@@ -49,16 +49,18 @@
 //! A fetch reads the map blurred over about its stratum, which moves light from F's peak to
 //! its flanks. So each node's weights are then moved, as little as their size allows, until
 //! the blurred taps have F's spherical-harmonic moments up to order 8
-//! ([`super::moments`], which derives it): the estimate becomes exact for maps of that band.
+//! ([`moments`], which derives it): the estimate becomes exact for maps of that band.
 //!
 //! Built from any batched evaluation of F, in parallel over nodes, each node alone: the taps
 //! do not depend on the thread count.
 
-use super::moments::{MOMENT_ORDER, ShBasis, match_moments};
+pub mod moments;
+
 use super::row_z;
 use super::{AZIMUTH_NODES, ELEVATION_NODES, Sampler, direction, grid_elevation, grid_nodes};
 use super::{COLUMNS, COSINE_SHARE, ROWS, cell_solid_angle, direction_at_z, node_weights};
 use glam::{DVec3, Vec3};
+use moments::{MOMENT_ORDER, ShBasis, match_moments};
 use rayon::prelude::*;
 use std::f64::consts::TAU;
 

@@ -248,10 +248,7 @@ fn every_composition_validates() {
         #[cfg(feature = "runtime")]
         brdfs.push((
             format!("{} resonant", fabric.name),
-            crate::gpu::resonant::resonant_wgsl(
-                fabric,
-                crate::model::resonant::ResonantNodes::DEFAULT,
-            ),
+            crate::gpu::resonant::resonant_wgsl(fabric, crate::model::ResonantNodes::DEFAULT),
         ));
     }
     #[cfg(feature = "runtime")]

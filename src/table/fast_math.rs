@@ -5,7 +5,7 @@
 //!
 //! They are written once for [`Lanes`], a number of f32 lanes: a plain `f32` for one
 //! lookup, [`wide::f32x8`] for eight computed together in SIMD registers (the batch lookup,
-//! see [`super::thread_frame::ThreadGeometry::locate_f32`]). Every lane goes through the
+//! see [`super::thread::ThreadGeometry::locate_f32`]). Every lane goes through the
 //! same IEEE operations in the same order, so both give the same values bit for bit.
 
 use std::f32::consts::{FRAC_PI_2, PI};

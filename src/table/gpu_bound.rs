@@ -39,8 +39,6 @@
 //!
 //! The bound per pair and channel is that propagated error plus 1e-5·|F| + 1e-6.
 
-use super::thread_frame::ThreadGeometry;
-use super::{Plane, quadrilinear_corners};
 use glam::DVec3;
 
 /// Weight quantisation of hardware filtering (8-bit fractions).
@@ -76,57 +74,4 @@ pub fn range(values: impl IntoIterator<Item = f64>) -> f64 {
             (lo.min(v), hi.max(v))
         });
     hi - lo
-}
-
-/// A thread's 4D table (`data`, two channels) interpolated at table coordinates, as the
-/// thread layouts' lookups do.
-fn interpolate(thread: &ThreadGeometry, data: &[f32], coordinates: [f64; 4]) -> [f64; 2] {
-    let axes = std::array::from_fn(|a| thread.axes[a].locate(coordinates[a]));
-    let mut sum = [0.0; 2];
-    for (index, weight) in quadrilinear_corners(axes) {
-        let k = thread.texel_index(index) * 2;
-        sum[0] += weight * data[k] as f64;
-        sum[1] += weight * data[k + 1] as f64;
-    }
-    sum
-}
-
-/// The interpolation errors of one thread table (4D plane `table`, masking plane
-/// `masking`) at a pair: `[reflection, transmission, ⟨P⟩]` from filtering and f32
-/// coordinates (points 1 and 2), and the fold differences `[reflection, transmission]`
-/// (point 3; at least a tiny value when the pair is on the fold u = 0, else 0).
-pub fn thread_errors(
-    thread: &ThreadGeometry,
-    table: &Plane,
-    masking: &Plane,
-    wi: DVec3,
-    wo: DVec3,
-) -> ([f64; 3], [f64; 2]) {
-    let coordinates = thread.coordinates(wi, wo);
-    let axes = std::array::from_fn(|a| thread.axes[a].locate(coordinates[a]));
-    let texels: Vec<usize> = quadrilinear_corners(axes)
-        .map(|(i, _)| thread.texel_index(i) * 2)
-        .collect();
-    let data = &table.data;
-    let scale = 3.0 * FILTER_WEIGHT_STEP + 4.0 * COORDINATE_ERROR;
-    let mut errors = [0.0; 3];
-    errors[0] = scale * range(texels.iter().map(|&k| data[k] as f64));
-    errors[1] = scale * range(texels.iter().map(|&k| data[k + 1] as f64));
-    let m = thread.masking_axis;
-    let ((x0, x1, _), (y0, y1, _)) = (m.locate(thread.beta(wi)), m.locate(thread.beta(wo)));
-    let p_range =
-        range([(x0, y0), (x1, y0), (x0, y1), (x1, y1)].map(|(x, y)| masking.texel(x, y)[0] as f64));
-    errors[2] = (2.0 * FILTER_WEIGHT_STEP + 2.0 * COORDINATE_ERROR) * p_range;
-    let mut fold = [0.0; 2];
-    // On the fold u = 0, f32 may land on the other side, (u, v) → (−u, −v).
-    if coordinates[2] < FOLD_EPSILON {
-        let [u, v] = [coordinates[2], coordinates[3]];
-        let other = interpolate(thread, data, [coordinates[0], coordinates[1], u, -v]);
-        let here = interpolate(thread, data, coordinates);
-        fold = [
-            (other[0] - here[0]).abs().max(f64::MIN_POSITIVE),
-            (other[1] - here[1]).abs(),
-        ];
-    }
-    (errors, fold)
 }

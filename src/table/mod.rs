@@ -26,6 +26,7 @@ pub mod point_samples;
 pub mod prefilter;
 pub mod shader_language;
 pub mod split_frame;
+pub mod thread;
 pub mod thread_frame;
 pub mod wgsl;
 

@@ -11,7 +11,7 @@
 //! same instructions.
 
 use super::fast_math::{self, Lanes};
-use super::thread_frame::lanes_in_thread_axes;
+use super::thread::lanes_in_thread_axes;
 use super::wgsl::{degenerate_threshold, unit_area_gaussian};
 use glam::Vec3;
 
@@ -143,7 +143,7 @@ impl PointSamples {
             angle([mi, p.bi * inverse_perp_i], [mo, p.bo * inverse_perp_o]);
         let u_phi = fast_math::exp(phi_d * phi_d * L::splat(self.k_u));
         let shadowing_m = reweighted(u_phi, mi, mo);
-        // θh and cos²θd by `half_angle_and_difference` (src/model/patch.rs): (|w⊥|, w·t) is
+        // θh and cos²θd by `half_angle_and_difference` (src/model/sample.rs): (|w⊥|, w·t) is
         // each direction's (cos θ, sin θ), of length |w| = 1, so their sum is
         // 2 cos θd (cos θh, sin θh).
         let si = p.ti0 * cos_a + p.zi * sin_a;

@@ -63,7 +63,7 @@ use super::axis::AxisF32;
 use super::fast_math::Lanes;
 use super::gpu_bound::{self, GpuErrorBound};
 use super::point_samples::{PointSamples, PointSums};
-use super::thread_frame::{self, AxisPlan, LocatedPairs, ThreadGeometry};
+use super::thread::{self, AxisPlan, LocatedPairs, ThreadGeometry};
 use super::wgsl::{coverage_wgsl, wgsl_f32, wgsl_vec};
 use super::{BATCH_LANES, BatchLanes, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
 use crate::model::curve::{Integration, curve_pieces};
@@ -132,8 +132,8 @@ impl LayoutUnit for SplitFrame {
         specs.extend(geometry.tabulated().map(|(j, _)| {
             PlaneSpec::new(
                 format!("masking{}", j + 1),
-                thread_frame::MASKING_TEXELS,
-                thread_frame::MASKING_TEXELS,
+                thread::MASKING_TEXELS,
+                thread::MASKING_TEXELS,
                 &["masking"],
             )
         }));
@@ -154,11 +154,7 @@ impl LayoutUnit for SplitFrame {
         let mut masking = Vec::new();
         for (j, slopes) in geometry.tabulated() {
             tables.push(bake_slopes(&slopes.fabric, &slopes.geometry, j, on_row));
-            masking.push(thread_frame::bake_masking(
-                &slopes.fabric,
-                &slopes.geometry,
-                j,
-            ));
+            masking.push(thread::bake_masking(&slopes.fabric, &slopes.geometry, j));
         }
         tables.extend(masking);
         tables
@@ -440,7 +436,7 @@ impl Geometry {
             thread.slopes.as_ref().map_or(0.0, |s| s.weight)
         );
         if !thread.points.is_empty() {
-            let (t0, b) = thread_frame::thread_frame_of(j);
+            let (t0, b) = crate::model::thread_axes(j);
             let _ = write!(
                 f,
                 "    let material = {};\n    \
@@ -550,7 +546,7 @@ impl TableLookup for Geometry {
             .tabulated()
             .map(|(j, slopes)| {
                 let (table, _) = self.planes[j].expect("a tabulated thread has planes");
-                thread_frame::thread_texture(&planes[table], &slopes.geometry, j)
+                thread::thread_texture(&planes[table], &slopes.geometry, j)
             })
             .collect();
         let masking: Vec<Plane> = self
@@ -558,7 +554,7 @@ impl TableLookup for Geometry {
             .map(|(j, _)| planes[self.planes[j].expect("planes").1].clone())
             .collect();
         if !masking.is_empty() {
-            textures.push(thread_frame::masking_texture(&masking));
+            textures.push(thread::masking_texture(&masking));
         }
         textures
     }
@@ -592,7 +588,7 @@ impl TableLookup for Geometry {
                 .expect("a tabulated thread has planes");
             let [r, tr, p, c2] = slopes.geometry.sample(&planes[t], &planes[m], wi, wo);
             let (errors, fold) =
-                gpu_bound::thread_errors(&slopes.geometry, &planes[t], &planes[m], wi, wo);
+                thread::thread_errors(&slopes.geometry, &planes[t], &planes[m], wi, wo);
             folded |= fold != [0.0; 2];
             let a = self.coverage[j] * slopes.weight;
             let c = c2.max(1e-8);
@@ -625,12 +621,12 @@ fn bake_slopes(
     let model = ThreadModel::new(fabric, index, Integration::Baking);
     // The ratios of a pair that is not a texel's own, at its own θd'.
     let ratios = |wi: DVec3, wo: DVec3| {
-        thread_frame::stored_ratios(&model, wi, wo, geometry.coordinates(wi, wo)[1])
+        thread::stored_ratios(&model, wi, wo, geometry.coordinates(wi, wo)[1])
     };
     let lift = |w: DVec3, z: f64| DVec3::new(w.x, w.y, z).normalize();
-    thread_frame::bake_thread_plane(geometry, on_row, |wi, wo, theta_d| {
+    thread::bake_thread_plane(geometry, on_row, |wi, wo, theta_d| {
         if wi.z >= 0.0 && wo.z >= 0.0 {
-            return thread_frame::stored_ratios(&model, wi, wo, theta_d);
+            return thread::stored_ratios(&model, wi, wo, theta_d);
         }
         let above = ratios(lift(wi, wi.z.max(1e-6)), lift(wo, wo.z.max(1e-6)));
         let mirror = ratios(lift(wi, wi.z.abs()), lift(wo, wo.z.abs()));

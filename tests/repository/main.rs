@@ -4,5 +4,6 @@
 //! binary is another release link of the whole crate with wgpu, naga, exr and ash.
 
 mod feature_split;
+mod import_cycles;
 mod links;
 mod model_purity;

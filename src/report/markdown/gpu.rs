@@ -1,6 +1,6 @@
 //! REPORT.md's GPU section: frame times and image errors of every shader on the standard scene.
 
-use super::{paper_n, pct, ratio};
+use crate::report::format::{paper_n, pct, ratio};
 use crate::report::{Evaluation, Report, plots};
 use std::fmt::Write;
 

@@ -21,7 +21,7 @@
 //! order 10 sharpened the hard edges of the interior's windows and the overcast horizon
 //! (docs/sampling.md#what-was-tried).
 
-use super::taps::Tap;
+use super::Tap;
 use glam::DVec3;
 
 /// Highest order of the moments matched ((N + 1)² = 81 of them).
