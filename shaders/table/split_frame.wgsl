@@ -1,4 +1,4 @@
-// Layout split_frame: the lookup of src/table/split_frame.rs (module doc,
+// Layout split_frame: the lookup of src/table/split_frame/ (module doc,
 // `Geometry::terms`), after shaders/table/lookup.wgsl, shaders/table/thread_geometry.wgsl
 // (the sloped segments' tables) and shaders/model/tangent_sample.wgsl (one tangent sample,
 // for the point masses).

@@ -7,12 +7,14 @@
 //! unconstrained). `clothbake fit` (src/cli/fit.rs) is the command over it.
 
 pub mod cases;
+pub mod identifiability;
 pub mod output;
 pub mod parameters;
 pub mod samples;
 pub mod solve;
 pub mod weave;
 
+pub use identifiability::FlatDirection;
 pub use parameters::{FreeParameter, LikeFabric, Parametrisation, perturbed};
 pub use samples::{Sample, SampleError, Samples, load_samples, parse_samples};
-pub use solve::{FitError, FitOptions, FitReport, FlatDirection, Progress, ResidualScale, fit};
+pub use solve::{FitError, FitOptions, FitReport, Progress, ResidualScale, fit};

@@ -4,6 +4,7 @@
 //! binary is another release link of the whole crate with wgpu, naga, exr and ash.
 
 mod feature_split;
+mod file_size;
 mod import_cycles;
 mod links;
 mod model_purity;

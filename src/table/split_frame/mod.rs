@@ -61,19 +61,19 @@
 
 use super::axis::AxisF32;
 use super::fast_math::Lanes;
-use super::gpu_bound::{self, GpuErrorBound};
 use super::point_samples::{PointSamples, PointSums};
 use super::thread::{self, AxisPlan, LocatedPairs, ThreadGeometry};
-use super::wgsl::{coverage_wgsl, wgsl_f32, wgsl_vec};
-use super::{BATCH_LANES, BatchLanes, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
+use super::wgsl::{wgsl_f32, wgsl_vec};
+use super::{LayoutUnit, Plane, PlaneSpec, TableLookup};
 use crate::model::curve::{Integration, curve_pieces};
 use crate::model::fabric::TangentSampling;
 use crate::model::patch::ThreadModel;
 use crate::model::{Fabric, Thread};
 use glam::{DVec3, Vec3};
-use std::any::Any;
 use std::fmt::Write;
 use std::sync::Arc;
+
+mod lookup;
 
 /// The axes of the sloped tables (see the module doc). Measured on the six fabrics: βH
 /// needs fewer texels once the point masses' sharp ridges are gone (3 → 1.2 per σs lost
@@ -484,129 +484,6 @@ impl Geometry {
             wgsl_f32(samples.k_u),
             wgsl_f32(samples.threshold),
         )
-    }
-}
-
-impl TableLookup for Geometry {
-    fn terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3] {
-        let sums = [0, 1].map(|j| self.thread_sums(planes, j, wi, wo));
-        let q = self.gap * wo.z + self.coverage[0] * sums[0][2] + self.coverage[1] * sums[1][2];
-        if q <= 0.0 {
-            return [0.0; 3];
-        }
-        [
-            (self.coverage[0] * sums[0][0] + self.coverage[1] * sums[1][0]) / q,
-            self.coverage[0] * sums[0][1] / q,
-            self.coverage[1] * sums[1][1] / q,
-        ]
-    }
-
-    fn terms_f32(&self, planes: &[Plane], wi: Vec3, wo: Vec3) -> [f32; 3] {
-        let mut terms = [[0.0; 3]];
-        self.terms_lanes::<f32>(planes, &[wi], &[wo], &mut terms);
-        terms[0]
-    }
-
-    fn terms_f32_lanes(
-        &self,
-        planes: &[Plane],
-        wi: &[Vec3; BATCH_LANES],
-        wo: &[Vec3; BATCH_LANES],
-    ) -> [[f32; 3]; BATCH_LANES] {
-        let mut terms = [[0.0; 3]; BATCH_LANES];
-        self.terms_lanes::<BatchLanes>(planes, wi, wo, &mut terms);
-        terms
-    }
-
-    fn wgsl_constants(&self) -> String {
-        let mut out = coverage_wgsl(self.coverage, self.gap);
-        let mut any = false;
-        for (j, _) in self.tabulated() {
-            let _ = writeln!(
-                out,
-                "@group(CLOTH_BRDF_GROUP) @binding({}) var cloth_split_table{}: texture_3d<f32>;",
-                4 + j,
-                j + 1
-            );
-            any = true;
-        }
-        if any {
-            out += "// ⟨P⟩ of the sloped segments, one layer per tabulated thread.\n\
-                    @group(CLOTH_BRDF_GROUP) @binding(6) var cloth_split_masking: \
-                    texture_2d_array<f32>;\n";
-        }
-        for j in 0..2 {
-            out += &self.thread_wgsl(j);
-        }
-        out
-    }
-
-    fn textures(&self, planes: &[Plane]) -> Vec<TextureData> {
-        let mut textures: Vec<TextureData> = self
-            .tabulated()
-            .map(|(j, slopes)| {
-                let (table, _) = self.planes[j].expect("a tabulated thread has planes");
-                thread::thread_texture(&planes[table], &slopes.geometry, j)
-            })
-            .collect();
-        let masking: Vec<Plane> = self
-            .tabulated()
-            .map(|(j, _)| planes[self.planes[j].expect("planes").1].clone())
-            .collect();
-        if !masking.is_empty() {
-            textures.push(thread::masking_texture(&masking));
-        }
-        textures
-    }
-
-    /// The sloped tables' interpolation errors propagated to F as for thread_frame (their
-    /// ⟨P⟩ weighted by the sloped share), plus the f32 sample kernel's relative error for
-    /// the point masses ([`gpu_bound`] point 4).
-    fn gpu_error_bound(
-        &self,
-        planes: &[Plane],
-        albedo: [DVec3; 2],
-        wi: DVec3,
-        wo: DVec3,
-        cpu: DVec3,
-    ) -> GpuErrorBound {
-        let floor = gpu_bound::floor(cpu);
-        let sums = [0, 1].map(|j| self.thread_sums(planes, j, wi, wo));
-        let q = self.gap * wo.z + (0..2).map(|j| self.coverage[j] * sums[j][2]).sum::<f64>();
-        let mut total = floor;
-        if q <= 0.0 {
-            return GpuErrorBound {
-                per_channel: total,
-                on_fold: false,
-            };
-        }
-        total += cpu.abs() * gpu_bound::KERNEL_RELATIVE;
-        let mut folded = false;
-        for (j, slopes) in self.tabulated() {
-            let (t, m) = self
-                .plane_indices(j)
-                .expect("a tabulated thread has planes");
-            let [r, tr, p, c2] = slopes.geometry.sample(&planes[t], &planes[m], wi, wo);
-            let (errors, fold) =
-                thread::thread_errors(&slopes.geometry, &planes[t], &planes[m], wi, wo);
-            folded |= fold != [0.0; 2];
-            let a = self.coverage[j] * slopes.weight;
-            let c = c2.max(1e-8);
-            let d_r = a * p / (c * q);
-            let d_t = albedo[j] * (a * p / q);
-            let d_p = (DVec3::splat(r / c) + albedo[j] * tr - cpu) * (a / q);
-            total += DVec3::splat(d_r * (errors[0] + fold[0]))
-                + d_t.abs() * (errors[1] + fold[1])
-                + d_p.abs() * errors[2];
-        }
-        GpuErrorBound {
-            per_channel: total,
-            on_fold: folded,
-        }
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
     }
 }
 
