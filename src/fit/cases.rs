@@ -13,7 +13,7 @@ use crate::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use crate::model::Fabric;
 use crate::weave::{Fibre, NamedWeave, Weave};
 
-/// Samples of a case, as a share of uniform pairs and the rest on the highlight cones.
+/// Samples of a case: four fifths on uniform pairs, the rest on the truth's highlight cones.
 pub const CASE_SAMPLES: usize = 2000;
 /// Multiplicative noise of a case's samples.
 pub const CASE_NOISE: f64 = 0.03;

@@ -64,7 +64,8 @@ impl Default for Yarn {
 
 /// The keys [`Yarn::set`] takes, for help texts.
 pub const YARN_KEYS: &str = "crimp (degrees, [0, 89]), legs ([0, 0.95]), flatten ([0, 1]), squash ([0, 0.95]), \
-    knee ([0.05, 0.95]), sag (degrees, [0, 89]), cover ((0, 1]), fibre (silk, polyester, cotton, linen, wool, nylon), eta ([1, 3]), \
+    knee ([0.05, 0.95]), sag (degrees, [0, 89]), cover ((0, 1]), \
+    fibre (silk, polyester, cotton, linen, wool, nylon), eta ([1, 3]), \
     colour (#rrggbb or r/g/b in [0, 1], sRGB), albedo_scale ([0, 10]), kd ([0, 1]), \
     gamma_s and gamma_v (degrees, (0, 90])";
 
