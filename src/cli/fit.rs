@@ -98,7 +98,12 @@ pub fn run(args: Args) -> CommandResult {
     let eta = args
         .fibre
         .as_deref()
-        .map(|fibre| fibre.parse::<Fibre>().map(Fibre::eta).map_err(UsageError))
+        .map(|fibre| {
+            fibre
+                .parse::<Fibre>()
+                .map(Fibre::eta)
+                .map_err(|e| UsageError(e.to_string()))
+        })
         .transpose()?;
     let parametrisation: Box<dyn Parametrisation> = match (&args.like, &args.weave) {
         (Some(like), _) => {

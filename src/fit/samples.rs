@@ -24,6 +24,7 @@ use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 pub use crate::formats::json_lines::MAX_LINE_BYTES;
+use crate::formats::json_lines::unit_direction;
 
 /// Largest sample file read: 64 MiB is about a million samples, far more than a fit needs.
 pub const MAX_SAMPLE_FILE_BYTES: u64 = 64 << 20;
@@ -111,20 +112,14 @@ fn field_of(message: &str) -> String {
     "(line)".into()
 }
 
+/// A direction read as every command reads one ([`unit_direction`]), and above the horizon;
+/// the message leaves the field to the caller, who names it.
 fn direction(v: [f64; 3], field: &str) -> Result<DVec3, String> {
-    let v = DVec3::from_array(v);
-    if !v.is_finite() {
-        return Err("has a non-finite component".into());
-    }
-    let scale = v.abs().max_element();
-    if scale == 0.0 {
-        return Err("is the zero vector".into());
-    }
-    let unit = (v / scale).normalize();
+    let unit = unit_direction(v, field).map_err(|e| e.problem.to_string())?;
     if unit.z <= 0.0 {
         return Err(format!(
             "{field} = [{}, {}, {}] is at or below the horizon (z ≤ 0): F is 0 there",
-            v.x, v.y, v.z
+            v[0], v[1], v[2]
         ));
     }
     Ok(unit)

@@ -68,12 +68,14 @@ impl SampleOutput {
 }
 
 /// Parses one `sample` line into a unit `wo` and three uniform numbers, each in [0, 1).
-pub fn parse_sample_line(text: &str) -> Result<(DVec3, [f64; 3]), String> {
-    let request: SampleRequest = serde_json::from_str(text)
-        .map_err(|e| format!("expected {{\"wo\":[x,y,z],\"u\":[u1,u2,u3]}}: {e}"))?;
-    for (k, u) in request.u.iter().enumerate() {
-        if !(0.0..1.0).contains(u) {
-            return Err(format!("u[{k}] = {u} is not in [0, 1)"));
+pub fn parse_sample_line(text: &str) -> Result<(DVec3, [f64; 3]), LineError> {
+    let request: SampleRequest = serde_json::from_str(text).map_err(|source| LineError::Json {
+        expected: r#"{"wo":[x,y,z],"u":[u1,u2,u3]}"#,
+        source,
+    })?;
+    for (index, &value) in request.u.iter().enumerate() {
+        if !(0.0..1.0).contains(&value) {
+            return Err(LineError::Uniform { index, value });
         }
     }
     Ok((unit_direction(request.wo, "wo")?, request.u))
@@ -82,37 +84,80 @@ pub fn parse_sample_line(text: &str) -> Result<(DVec3, [f64; 3]), String> {
 /// Why a stream stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum EvalStreamError {
-    #[error("input line {line}: {message}")]
-    BadLine { line: u64, message: String },
+    #[error("input line {line}: {problem}")]
+    BadLine { line: u64, problem: LineError },
     #[error("i/o error: {0}")]
     Io(#[from] std::io::Error),
 }
 
+/// What is wrong with one input line.
+#[derive(Debug, thiserror::Error)]
+pub enum LineError {
+    #[error("expected {expected}: {source}")]
+    Json {
+        expected: &'static str,
+        source: serde_json::Error,
+    },
+    #[error("u[{index}] = {value} is not in [0, 1)")]
+    Uniform { index: usize, value: f64 },
+    #[error(transparent)]
+    Direction(#[from] DirectionError),
+    #[error("longer than {MAX_LINE_BYTES} bytes")]
+    TooLong,
+    #[error("read error: {0}")]
+    Read(std::io::Error),
+    #[error("is not UTF-8")]
+    NotUtf8,
+}
+
+/// What is wrong with a direction a user gave.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum DirectionProblem {
+    #[error("has a non-finite component")]
+    NonFinite,
+    #[error("is the zero vector")]
+    Zero,
+}
+
+/// A refused direction, named by its field.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{field} {problem}")]
+pub struct DirectionError {
+    pub field: String,
+    pub problem: DirectionProblem,
+}
+
 /// Normalises a direction given by the user; `field` names it in the error.
-pub fn unit_direction(v: [f64; 3], field: &str) -> Result<DVec3, String> {
+pub fn unit_direction(v: [f64; 3], field: &str) -> Result<DVec3, DirectionError> {
+    let refuse = |problem| DirectionError {
+        field: field.to_string(),
+        problem,
+    };
     let v = DVec3::from_array(v);
     if !v.is_finite() {
-        return Err(format!("{field} has a non-finite component"));
+        return Err(refuse(DirectionProblem::NonFinite));
     }
     // Scale by the largest component first so that huge or tiny vectors normalise exactly.
     let scale = v.abs().max_element();
     if scale == 0.0 {
-        return Err(format!("{field} is the zero vector"));
+        return Err(refuse(DirectionProblem::Zero));
     }
     Ok((v / scale).normalize())
 }
 
 /// Parses one input line into unit directions `(wi, wo)`.
-pub fn parse_line(text: &str) -> Result<(DVec3, DVec3), String> {
-    let pair: DirectionPair = serde_json::from_str(text)
-        .map_err(|e| format!("expected {{\"wi\":[x,y,z],\"wo\":[x,y,z]}}: {e}"))?;
+pub fn parse_line(text: &str) -> Result<(DVec3, DVec3), LineError> {
+    let pair: DirectionPair = serde_json::from_str(text).map_err(|source| LineError::Json {
+        expected: r#"{"wi":[x,y,z],"wo":[x,y,z]}"#,
+        source,
+    })?;
     Ok((
         unit_direction(pair.wi, "wi")?,
         unit_direction(pair.wo, "wo")?,
     ))
 }
 
-type RawLine = Result<Vec<u8>, String>;
+type RawLine = Result<Vec<u8>, LineError>;
 
 /// Reads raw lines (without the newline) into `queue` until end of input, an error, or the
 /// consumer hanging up.
@@ -125,7 +170,7 @@ fn read_lines(mut input: impl BufRead, queue: mpsc::SyncSender<RawLine>) {
         let item = match read {
             Ok(0) => return,
             Ok(_) if line.last() != Some(&b'\n') && line.len() > MAX_LINE_BYTES => {
-                Err(format!("longer than {MAX_LINE_BYTES} bytes"))
+                Err(LineError::TooLong)
             }
             Ok(_) => {
                 if line.last() == Some(&b'\n') {
@@ -136,7 +181,7 @@ fn read_lines(mut input: impl BufRead, queue: mpsc::SyncSender<RawLine>) {
                 }
                 Ok(line)
             }
-            Err(e) => Err(format!("read error: {e}")),
+            Err(e) => Err(LineError::Read(e)),
         };
         let stop = item.is_err();
         if queue.send(item).is_err() || stop {
@@ -172,7 +217,7 @@ where
 fn json_lines<R, W, T, O>(
     input: R,
     mut output: W,
-    parse: fn(&str) -> Result<T, String>,
+    parse: fn(&str) -> Result<T, LineError>,
     answer: impl Fn(T) -> O + Sync,
 ) -> Result<u64, EvalStreamError>
 where
@@ -197,12 +242,12 @@ where
         {
             let line = done + offset as u64 + 1;
             let parsed = raw
-                .and_then(|bytes| String::from_utf8(bytes).map_err(|_| "is not UTF-8".to_string()))
+                .and_then(|bytes| String::from_utf8(bytes).map_err(|_| LineError::NotUtf8))
                 .and_then(|s| parse(&s));
             match parsed {
                 Ok(request) => requests.push(request),
-                Err(message) => {
-                    failure = Some(EvalStreamError::BadLine { line, message });
+                Err(problem) => {
+                    failure = Some(EvalStreamError::BadLine { line, problem });
                     break;
                 }
             }

@@ -59,16 +59,22 @@ impl fmt::Display for Fibre {
     }
 }
 
-impl FromStr for Fibre {
-    type Err = String;
+/// A fibre name none of [`Fibre::ALL`] has.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown fibre '{text}'; known: {}", Fibre::ALL.map(Fibre::name).join(", "))]
+pub struct UnknownFibre {
+    pub text: String,
+}
 
-    fn from_str(text: &str) -> Result<Self, String> {
+impl FromStr for Fibre {
+    type Err = UnknownFibre;
+
+    fn from_str(text: &str) -> Result<Self, UnknownFibre> {
         Fibre::ALL
             .into_iter()
             .find(|f| f.name().eq_ignore_ascii_case(text.trim()))
-            .ok_or_else(|| {
-                let names: Vec<_> = Fibre::ALL.iter().map(|f| f.name()).collect();
-                format!("unknown fibre '{text}'; known: {}", names.join(", "))
+            .ok_or_else(|| UnknownFibre {
+                text: text.to_string(),
             })
     }
 }

@@ -8,8 +8,8 @@ pub mod fibre;
 pub mod yarn;
 
 pub use draft::{Draft, DraftError, Family, NamedWeave, Yarns};
-pub use fibre::Fibre;
-pub use yarn::{YARN_KEYS, Yarn, srgb_to_linear, tangent_curve};
+pub use fibre::{Fibre, UnknownFibre};
+pub use yarn::{KnobError, YARN_KEYS, Yarn, srgb_to_linear, tangent_curve};
 
 use crate::model::{Fabric, FabricError, ModelOptions, Thread};
 

@@ -1,7 +1,7 @@
 //! A yarn family's knobs (its shape in the cloth and its optics) and the tangent curve its
 //! floats make (docs/weave.md#tangent-curves-from-floats).
 
-use super::fibre::Fibre;
+use super::fibre::{Fibre, UnknownFibre};
 
 /// One yarn family: how it lies in the cloth (crimp, legs, flattening, cover) and its
 /// optics. Every field has a default, and [`Yarn::set`] changes one by its key, so commands
@@ -69,21 +69,46 @@ pub const YARN_KEYS: &str = "crimp (degrees, [0, 89]), legs ([0, 0.95]), flatten
     colour (#rrggbb or r/g/b in [0, 1], sRGB), albedo_scale ([0, 10]), kd ([0, 1]), \
     gamma_s and gamma_v (degrees, (0, 90])";
 
+/// Why a yarn knob was refused; each names the knob and what it takes.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum KnobError {
+    #[error("yarn knob '{key}' takes a number, got '{value}'")]
+    NotANumber { key: String, value: String },
+    /// `range` as the knob's help writes it, `[0, 89]` or `(0, 1]`.
+    #[error("yarn knob '{key}' must be within {range}, got {value}")]
+    OutOfRange {
+        key: String,
+        range: String,
+        value: String,
+    },
+    #[error("unknown yarn knob '{key}'; known: {YARN_KEYS}")]
+    UnknownKnob { key: String },
+    #[error("yarn knobs are key=value, got '{item}'")]
+    NotKeyValue { item: String },
+    #[error("a colour is #rrggbb or r/g/b with each in [0, 1], got '{text}'")]
+    Colour { text: String },
+    #[error(transparent)]
+    Fibre(#[from] UnknownFibre),
+}
+
 impl Yarn {
     /// Sets the knob `key` from its text; the error names the key and its range.
-    pub fn set(&mut self, key: &str, value: &str) -> Result<(), String> {
+    pub fn set(&mut self, key: &str, value: &str) -> Result<(), KnobError> {
         let key = key.trim();
         let value = value.trim();
-        let number = |lo: f64, hi: f64, lo_open: bool| -> Result<f64, String> {
-            let v: f64 = value
-                .parse()
-                .map_err(|_| format!("yarn knob '{key}' takes a number, got '{value}'"))?;
+        let number = |lo: f64, hi: f64, lo_open: bool| -> Result<f64, KnobError> {
+            let v: f64 = value.parse().map_err(|_| KnobError::NotANumber {
+                key: key.to_string(),
+                value: value.to_string(),
+            })?;
             let inside = v.is_finite() && v <= hi && if lo_open { v > lo } else { v >= lo };
             if !inside {
                 let open = if lo_open { "(" } else { "[" };
-                return Err(format!(
-                    "yarn knob '{key}' must be within {open}{lo}, {hi}], got {value}"
-                ));
+                return Err(KnobError::OutOfRange {
+                    key: key.to_string(),
+                    range: format!("{open}{lo}, {hi}]"),
+                    value: value.to_string(),
+                });
             }
             Ok(v)
         };
@@ -102,25 +127,31 @@ impl Yarn {
             "kd" => self.kd = number(0.0, 1.0, false)?,
             "gamma_s" => self.gamma_s_deg = number(0.0, 90.0, true)?,
             "gamma_v" => self.gamma_v_deg = number(0.0, 90.0, true)?,
-            other => return Err(format!("unknown yarn knob '{other}'; known: {YARN_KEYS}")),
+            other => {
+                return Err(KnobError::UnknownKnob {
+                    key: other.to_string(),
+                });
+            }
         }
         Ok(())
     }
 
     /// Sets every `key=value` of a comma-separated list, in order.
-    pub fn set_all(&mut self, list: &str) -> Result<(), String> {
+    pub fn set_all(&mut self, list: &str) -> Result<(), KnobError> {
         for item in list.split(',').filter(|s| !s.trim().is_empty()) {
-            let (key, value) = item
-                .split_once('=')
-                .ok_or_else(|| format!("yarn knobs are key=value, got '{item}'"))?;
+            let (key, value) = item.split_once('=').ok_or_else(|| KnobError::NotKeyValue {
+                item: item.to_string(),
+            })?;
             self.set(key, value)?;
         }
         Ok(())
     }
 }
 
-fn parse_colour(text: &str) -> Result<[f64; 3], String> {
-    let bad = || format!("a colour is #rrggbb or r/g/b with each in [0, 1], got '{text}'");
+fn parse_colour(text: &str) -> Result<[f64; 3], KnobError> {
+    let bad = || KnobError::Colour {
+        text: text.to_string(),
+    };
     if let Some(hex) = text.strip_prefix('#') {
         if hex.len() != 6 || !hex.is_ascii() {
             return Err(bad());
@@ -375,7 +406,7 @@ mod tests {
             ("crimp", "key=value"),
             ("eta=NaN", "eta"),
         ] {
-            let error = Yarn::default().set_all(list).unwrap_err();
+            let error = Yarn::default().set_all(list).unwrap_err().to_string();
             assert!(error.contains(needle), "{list}: {error}");
         }
     }

@@ -156,7 +156,7 @@ impl<'a> Directions<'a> {
     /// (`unit_direction`: finite, not zero, any length).
     fn read(&self, row: usize) -> Result<DVec3, String> {
         let w = &self.flat[3 * row..3 * row + 3];
-        unit_direction([w[0], w[1], w[2]], self.name)
+        unit_direction([w[0], w[1], w[2]], self.name).map_err(|e| e.to_string())
     }
 
     /// Row `row`, or NaN where it is refused (which `unit_direction` never returns).
