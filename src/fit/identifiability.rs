@@ -12,9 +12,10 @@ use nalgebra::DMatrix;
 /// With residual noise of standard deviation `σr` (estimated as the residuals' RMS at the
 /// solution), the least-squares estimate along `v` has standard error `σr / s` where `s` is
 /// `v`'s singular value. A direction is reported when that error exceeds
-/// [`FitOptions::flat_threshold`](super::FitOptions::flat_threshold) of the range: the samples then cannot tell apart fabrics a
-/// tenth of the parameters' ranges apart along it. This ties the cut to the data's own noise
-/// and count rather than to a fixed ratio of singular values.
+/// [`FitOptions::flat_threshold`](super::FitOptions::flat_threshold) of the range: the
+/// samples then cannot tell apart fabrics a tenth of the parameters' ranges apart along it.
+/// This ties the cut to the data's own noise and count rather than to a fixed ratio of
+/// singular values.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FlatDirection {
     /// `s / s_max`.

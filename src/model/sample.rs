@@ -5,8 +5,8 @@
 use glam::DVec3;
 
 /// Thread `index`'s base tangent t0 and rotation axis b: thread 1 (index 0) runs along x
-/// and turns about y, thread 2 along y about x (docs/model.md#frames-and-directions). Every part of the
-/// crate that puts a pair into a thread's frame takes it from here.
+/// and turns about y, thread 2 along y about x (docs/model.md#frames-and-directions). Every
+/// part of the crate that puts a pair into a thread's frame takes it from here.
 pub fn thread_axes(index: usize) -> (DVec3, DVec3) {
     if index == 0 {
         (DVec3::X, DVec3::Y)
