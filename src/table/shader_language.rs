@@ -55,14 +55,23 @@ impl fmt::Display for ShaderLanguage {
     }
 }
 
-impl std::str::FromStr for ShaderLanguage {
-    type Err = String;
+/// A shading language name none of [`ShaderLanguage::ALL`] has.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown shading language '{name}' (wgsl, glsl, hlsl or msl)")]
+pub struct UnknownShaderLanguage {
+    pub name: String,
+}
 
-    fn from_str(s: &str) -> Result<Self, String> {
+impl std::str::FromStr for ShaderLanguage {
+    type Err = UnknownShaderLanguage;
+
+    fn from_str(s: &str) -> Result<Self, UnknownShaderLanguage> {
         Self::ALL
             .into_iter()
             .find(|l| l.name() == s)
-            .ok_or_else(|| format!("unknown shading language '{s}' (wgsl, glsl, hlsl or msl)"))
+            .ok_or_else(|| UnknownShaderLanguage {
+                name: s.to_string(),
+            })
     }
 }
 

@@ -81,6 +81,6 @@ fn translations_compile_with_glslang_for_every_layout() {
 #[test]
 fn unknown_languages_are_refused() {
     assert_eq!("hlsl".parse::<ShaderLanguage>(), Ok(ShaderLanguage::Hlsl));
-    let error = "spirv".parse::<ShaderLanguage>().unwrap_err();
+    let error = "spirv".parse::<ShaderLanguage>().unwrap_err().to_string();
     assert!(error.contains("spirv") && error.contains("glsl"), "{error}");
 }
