@@ -77,10 +77,9 @@ impl ResonantNodes {
     /// Most nodes of one kind per segment.
     pub const MAX: u32 = 16;
 
-    /// The default counts: measured against 5/3/2, 5/4/2 and 6/4/2, the cheapest with every
-    /// built-in fabric within 0.25% relative RMS of the direct rule with margin on 20,000
-    /// uniform and 20,000 highlight pairs (worst 0.20%, crepe's highlight pairs; 5/4/2 reaches
-    /// 0.22%), at 12–32 evaluations per light (tests/model/resonant.rs).
+    /// The default counts: the cheapest that keep every built-in fabric within 0.25% relative
+    /// RMS of the direct rule with a margin (tests/model/resonant.rs; the counts compared are in
+    /// docs/notebook/2026-12-07-figures-from-comments.md).
     pub const DEFAULT: Self = Self {
         surface: 6,
         volume: 5,

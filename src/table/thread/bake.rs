@@ -13,19 +13,11 @@ use half::f16;
 /// Why 0: a sample contributes to ⟨P⟩ only while it faces both directions, and M and P both
 /// vanish at the edge of that window (w·n(α) = 0 for one of them). As the window closes,
 /// ⟨s⟩ = ⟨f_s M P cos θi⟩ vanishes faster than ⟨P⟩, and the stored ratios, a ⟨P⟩-weighted
-/// mean of f_s·M·cos θi, go to 0 with it. Over 400,000 uniform pairs, where
-/// 10⁻⁶ < ⟨P⟩ ≤ 10⁻⁵ the reflection ratio is at most 7% of each thread's largest (velvet's
-/// transmission ratio, with its tiny albedo, 23%); where 10⁻⁴ < ⟨P⟩ ≤ 10⁻³ it reaches the
-/// largest, so the floor must sit well below 10⁻³.
-///
-/// Measured (20,000 uniform and 20,000 highlight pairs per fabric): storing 0 at or below
-/// 1e-5, instead of filling the texels below 1e-3 from their neighbours as the baker did
-/// before, took velvet's split_frame 32 from 1.86 / 1.66% to 1.28 / 1.08%, satin's
-/// split_frame 32 highlight error from 0.69 to 0.47% and thread_frame 48's from 5.50 to
-/// 3.50%, and made no fabric worse. Floors from 1e-4 to 1e-12 agree within 0.03 points;
-/// storing 0 below 1e-3 instead took satin's split_frame 32 highlight error to 2.63%. The
-/// neighbours' mean continued the ratios flat across the edge where they drop to 0 (along
-/// velvet's masking kinks); a floor of 1e-3 cut off ratios that are still large there.
+/// mean of f_s·M·cos θi, go to 0 with it. Near ⟨P⟩ = 10⁻³ the ratios are still as large as
+/// anywhere, so the floor sits well below that; filling such texels from their neighbours
+/// instead would continue the ratios flat across the edge where they drop to 0 (along
+/// velvet's masking kinks). The figures behind the choice are in
+/// docs/notebook/2026-12-07-figures-from-comments.md.
 pub const MASKING_FLOOR: f64 = 1e-5;
 
 /// The 3D texture of thread `j` (see "GPU textures"): 2 channels, depth N2·(N3 + 2).

@@ -38,8 +38,9 @@ pub struct AxisPlan {
 impl AxisPlan {
     /// Texels of the non-βH axes (θd', u, v) at `resolution`. The v count is the odd number
     /// nearest to the plan's, so that v = 0 is a texel line: there φi' = φo', where the
-    /// resonant sample's masking min(M(wi), M(wo)) kinks (split_frame 31 with 26 v texels
-    /// read velvet 1.14 / 1.16%, with 27 0.81 / 0.75%).
+    /// resonant sample's masking min(M(wi), M(wo)) kinks, and a kink between texel lines is
+    /// smeared over two of them (velvet shows it most: the figures are in
+    /// docs/notebook/2026-12-07-figures-from-comments.md).
     pub fn inner_texels(&self, resolution: u32) -> [usize; 3] {
         let r = resolution as f64;
         let [t, u, v] = self.inner_per_resolution;
