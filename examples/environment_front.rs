@@ -21,7 +21,7 @@
 //! so that a change to the GPU side is measured again in minutes. They depend on the model,
 //! the scene and the sampler: empty DIR when any of those changes.
 
-use clothbake::evaluator::table::TableLookup;
+use clothbake::evaluator::table::BakedTable;
 use clothbake::evaluator::{EvaluationContext, Evaluator};
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::gpu::{GpuContext, GpuSampleTaps};
@@ -68,7 +68,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "environment alone"
         }
     );
-    let evaluator = TableLookup { path: None };
+    let evaluator = BakedTable { path: None };
     let settings = FrameSettings::from_scene(&scene);
     // SIZE 0: frame times only.
     let chosen = |g: &GeneratedEnvironment| {

@@ -1,10 +1,11 @@
 //! Options and helpers shared by several commands.
 
 use clothbake::evaluator::direct::Direct;
-use clothbake::evaluator::table::TableLookup;
+use clothbake::evaluator::table::BakedTable;
 use clothbake::evaluator::{
     EvaluationContext, Evaluator, EvaluatorError, EvaluatorSpec, FabricEvaluator,
 };
+use clothbake::model::curve::DEFAULT_PAPER_SAMPLES;
 use clothbake::model::{Fabric, ResonantNodes};
 use clothbake::table::Layout;
 use std::path::Path;
@@ -15,20 +16,59 @@ use std::sync::Arc;
 #[error("{0}")]
 pub struct UsageError(pub String);
 
-/// The older spelling of an evaluator on `render` and `view` (`--shader`), kept because
-/// users' scripts call it; `--evaluator` is the spelling every command shares.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum ShaderArg {
-    /// Table lookup from the baked tables.
-    Lookup,
-    /// The model itself in the shader, paper mode (--samples per thread).
-    Paper,
-    /// The same as paper: the name this shader had before the evaluators had one spelling.
-    Direct,
-    /// The resonant quadrature in the shader (--surface-nodes, --volume-nodes, --base-nodes).
-    Resonant,
-    /// F = 1/π: the frame's cost without BRDF work, the floor under any shader's time.
-    Constant,
+/// The values of the older option `render --shader` / `view --shader` and the evaluator
+/// each stands for (`direct` was paper mode's name in the shader before every command spelt
+/// evaluators one way).
+#[cfg(feature = "runtime")]
+pub const SHADER_WORDS: &[(&str, &str)] = &[
+    ("lookup", "table"),
+    ("paper", "paper"),
+    ("direct", "paper"),
+    ("resonant", "resonant"),
+    ("constant", "constant"),
+];
+
+/// The values of the older option `eval --integration` and the evaluator each stands for.
+pub const INTEGRATION_WORDS: &[(&str, &str)] = &[
+    ("direct", "direct"),
+    ("paper", "paper"),
+    ("resonant", "resonant"),
+];
+
+/// The words of `words`, for clap's list of possible values.
+pub fn older_words(words: &'static [(&'static str, &'static str)]) -> Vec<&'static str> {
+    words.iter().map(|(word, _)| *word).collect()
+}
+
+/// The evaluator spelling that the older options select: `word`, the value of `option`
+/// (`--shader`, `--integration`), stands for an evaluator by `words`; `--samples` becomes
+/// paper mode's N and the node options the resonant quadrature's counts. Where they do not
+/// fit the evaluator, the error names the options as the user wrote them. This is the one
+/// place the older options are read.
+pub fn older_spelling(
+    option: &str,
+    word: &str,
+    words: &[(&str, &str)],
+    samples: Option<u32>,
+    nodes: &NodeArgs,
+) -> Result<String, UsageError> {
+    let name = words
+        .iter()
+        .find(|(w, _)| *w == word)
+        .map(|(_, name)| *name)
+        .ok_or_else(|| UsageError(format!("{option} {word}: not one of its values")))?;
+    let nodes = nodes.nodes(name == "resonant", &format!("{option} resonant"))?;
+    match (name, samples) {
+        ("paper", samples) => Ok(format!(
+            "paper:{}",
+            samples.unwrap_or(DEFAULT_PAPER_SAMPLES)
+        )),
+        (_, Some(_)) => Err(UsageError(format!(
+            "--samples applies to paper mode, not {option} {word}"
+        ))),
+        ("resonant", None) => Ok(format!("resonant:{nodes}")),
+        (name, None) => Ok(name.to_string()),
+    }
 }
 
 /// The resonant quadrature's node counts (`eval --integration resonant`,
@@ -92,7 +132,7 @@ pub fn evaluation_of(
 ) -> Result<Box<dyn FabricEvaluator>, EvaluatorError> {
     let evaluator: Arc<dyn Evaluator> = match (evaluator, table) {
         (Some(spec), _) => spec.0.clone(),
-        (None, Some(path)) => Arc::new(TableLookup {
+        (None, Some(path)) => Arc::new(BakedTable {
             path: Some(path.to_path_buf()),
         }),
         (None, None) => Arc::new(Direct),

@@ -1,16 +1,10 @@
 //! `clothbake render`: the scene's cloth rendered headless to PNG.
 
 use super::CommandResult;
-use super::options::{NodeArgs, SceneArgs, ShaderArg, UsageError};
-use clothbake::evaluator::constant::Constant;
-use clothbake::evaluator::paper::Paper;
-use clothbake::evaluator::resonant::Resonant;
-use clothbake::evaluator::table::TableLookup;
-use clothbake::evaluator::{Evaluator, EvaluatorSpec};
-use clothbake::gpu::direct::DEFAULT_SAMPLES;
+use super::options::{NodeArgs, SHADER_WORDS, SceneArgs, older_spelling, older_words};
+use clothbake::evaluator::{self, EvaluatorSpec};
 use clothbake::render::job::{self, RenderJob};
 use std::path::PathBuf;
-use std::sync::Arc;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -35,8 +29,8 @@ pub struct Args {
     evaluator: Option<EvaluatorSpec>,
     /// The older spelling of --evaluator: lookup (table), paper or direct (both paper mode
     /// with --samples per thread), resonant (with the node options), constant.
-    #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
-    shader: ShaderArg,
+    #[arg(long, default_value = "lookup", value_parser = older_words(SHADER_WORDS))]
+    shader: String,
     /// Tangent samples per thread of --shader paper (default 32).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     samples: Option<u32>,
@@ -56,30 +50,16 @@ pub struct Args {
     linear: bool,
 }
 
-/// The evaluator that `--shader`, `--samples` and the node options select.
-fn evaluator_of_shader_options(args: &Args) -> Result<Arc<dyn Evaluator>, UsageError> {
-    let nodes = args
-        .nodes
-        .nodes(args.shader == ShaderArg::Resonant, "--shader resonant")?;
-    Ok(match (args.shader, args.samples) {
-        (ShaderArg::Paper | ShaderArg::Direct, n) => Arc::new(Paper {
-            samples: n.unwrap_or(DEFAULT_SAMPLES),
-        }),
-        (_, Some(_)) => {
-            return Err(UsageError(
-                "--samples applies to --shader paper (or direct) only".into(),
-            ));
-        }
-        (ShaderArg::Resonant, None) => Arc::new(Resonant { nodes }),
-        (ShaderArg::Lookup, None) => Arc::new(TableLookup { path: None }),
-        (ShaderArg::Constant, None) => Arc::new(Constant),
-    })
-}
-
 pub fn run(args: Args) -> CommandResult {
     let evaluator = match &args.evaluator {
         Some(spec) => spec.0.clone(),
-        None => evaluator_of_shader_options(&args)?,
+        None => evaluator::parse(&older_spelling(
+            "--shader",
+            &args.shader,
+            SHADER_WORDS,
+            args.samples,
+            &args.nodes,
+        )?)?,
     };
     let job = RenderJob {
         scene: args.scene.load()?,

@@ -1,9 +1,13 @@
 //! `clothbake view`: the interactive window.
 
 use super::CommandResult;
-use super::options::{SceneArgs, ShaderArg, UsageError};
-use clothbake::gpu::direct::DEFAULT_SAMPLES;
-use clothbake::viewer::{self, Shading, ViewOptions};
+use super::options::{NodeArgs, SHADER_WORDS, SceneArgs, older_spelling, older_words};
+use clothbake::evaluator::{self, EvaluatorSpec};
+use clothbake::viewer::{self, ViewOptions};
+
+/// The evaluators key V cycles through when `--evaluator` names none: the table, paper mode,
+/// the resonant quadrature.
+const DEFAULT_EVALUATORS: [&str; 3] = ["table", "paper", "resonant"];
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -15,27 +19,39 @@ pub struct Args {
     /// Draw N frames, print the median frame time and exit.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
     frames: Option<u32>,
-    /// Samples per thread of the paper-mode shader (+/- change it).
-    #[arg(long, default_value_t = DEFAULT_SAMPLES,
-          value_parser = clap::value_parser!(u32).range(1..=1024))]
-    samples: u32,
-    /// Shading at start: table lookup, the model in the shader in paper mode (key D
-    /// toggles), or the resonant quadrature in the shader (key G toggles); constant is render's only.
-    #[arg(long, value_enum, default_value_t = ShaderArg::Lookup)]
-    shader: ShaderArg,
+    /// An evaluator to show, in the spelling every command shares: table[:PATH], paper[:N],
+    /// resonant[:S/V/B], constant. Repeat it for a list that key V cycles through, the first
+    /// shown at start (default: table, paper, resonant).
+    #[arg(long, conflicts_with_all = ["shader", "samples", "surface_nodes", "volume_nodes", "base_nodes"])]
+    evaluator: Vec<EvaluatorSpec>,
+    /// The older spelling of --evaluator: the evaluator shown first, the default list after
+    /// it: lookup (table), paper or direct (both paper mode with --samples per thread),
+    /// resonant (with the node options), constant.
+    #[arg(long, value_parser = older_words(SHADER_WORDS))]
+    shader: Option<String>,
+    /// Tangent samples per thread of paper mode (default 32).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    samples: Option<u32>,
+    #[command(flatten)]
+    nodes: NodeArgs,
 }
 
 pub fn run(args: Args) -> CommandResult {
-    let shading = match args.shader {
-        ShaderArg::Lookup => Shading::Lookup,
-        ShaderArg::Paper | ShaderArg::Direct => Shading::Paper,
-        ShaderArg::Resonant => Shading::Resonant,
-        ShaderArg::Constant => {
-            return Err(UsageError(
-                "view has no constant shading: --shader lookup, paper or resonant".into(),
-            )
-            .into());
+    let evaluators = if args.evaluator.is_empty() {
+        // The older options name the first evaluator; the default list follows it, less the
+        // default of the first one's unit.
+        let word = args.shader.as_deref().unwrap_or("lookup");
+        let spelling = older_spelling("--shader", word, SHADER_WORDS, args.samples, &args.nodes)?;
+        let unit = |spelling: &str| spelling.split(':').next().unwrap_or_default().to_string();
+        let mut evaluators = vec![evaluator::parse(&spelling)?];
+        for default in DEFAULT_EVALUATORS {
+            if unit(default) != unit(&spelling) {
+                evaluators.push(evaluator::parse(default)?);
+            }
         }
+        evaluators
+    } else {
+        args.evaluator.into_iter().map(|spec| spec.0).collect()
     };
     let summary = viewer::run(ViewOptions {
         scene: args.scene.load()?,
@@ -43,8 +59,7 @@ pub fn run(args: Args) -> CommandResult {
         tables: args.scene.tables,
         mesh: args.scene.mesh,
         frames: args.frames,
-        samples: args.samples,
-        shading,
+        evaluators,
     })?;
     let ms = |v: Option<f64>| v.map_or_else(|| "n/a".to_string(), |v| format!("{v:.2} ms"));
     println!(

@@ -4,31 +4,23 @@
 
 use super::{
     EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, ModelEvaluation,
-    parameter_error,
+    Parsed, parameter_error,
 };
 use crate::model::{Fabric, Integration};
 use std::sync::Arc;
 
-pub struct DirectUnit;
+/// The unit's entry in the registry.
+pub const UNIT: EvaluatorUnit = EvaluatorUnit {
+    name: "direct",
+    syntax: "direct",
+    summary: "the converged direct rule, the ground truth (CPU only)",
+    parse,
+};
 
-impl EvaluatorUnit for DirectUnit {
-    fn name(&self) -> &'static str {
-        "direct"
-    }
-
-    fn syntax(&self) -> &'static str {
-        "direct"
-    }
-
-    fn summary(&self) -> &'static str {
-        "the converged direct rule, the ground truth (CPU only)"
-    }
-
-    fn parse(&self, parameter: Option<&str>) -> Result<Arc<dyn Evaluator>, EvaluatorError> {
-        match parameter {
-            None => Ok(Arc::new(Direct)),
-            Some(_) => Err(parameter_error(self, parameter, "takes no parameter")),
-        }
+fn parse(parameter: Option<&str>) -> Parsed {
+    match parameter {
+        None => Ok(Arc::new(Direct)),
+        Some(_) => Err(parameter_error(&UNIT, parameter, "takes no parameter")),
     }
 }
 

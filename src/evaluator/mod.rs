@@ -10,11 +10,14 @@
 //! | `table[:PATH]`, `PATH.exr` | [`table`] | a baked table's lookup (default: the fabric's table in the tables directory) |
 //! | `constant` | [`constant`] | F = 1/π above the horizon: the cost floor of a frame, not a model |
 //!
-//! A unit implements [`EvaluatorUnit`] (its name, the syntax of its parameter, and parsing
-//! it into an [`Evaluator`]) and is one line in [`EVALUATORS`]. An [`Evaluator`] is a
+//! A unit is one module here: a file, or a folder holding its CPU evaluation (`mod.rs`), its
+//! GPU form (`gpu.rs`, a [`GpuBrdf`], with the runtime) and its own WGSL (added to the
+//! composer by the GPU form, [`crate::shader::Composer::unit_file`]). It describes itself by
+//! one [`EvaluatorUnit`] constant (its name, the syntax of its parameter, and the function that
+//! parses it into an [`Evaluator`]), which is one line in [`EVALUATORS`]. An [`Evaluator`] is a
 //! configured spelling; for a fabric it prepares a [`FabricEvaluator`] (reading and checking
-//! files on the CPU), whose CPU evaluation and, with the runtime, GPU form ([`GpuBrdf`]) the
-//! commands, the renderer and the tests use without naming the unit.
+//! files on the CPU), whose CPU evaluation and, with the runtime, GPU form the commands, the
+//! renderer, the viewer, the report and the tests use without naming the unit.
 
 pub mod constant;
 pub mod direct;
@@ -35,26 +38,31 @@ use std::sync::Arc;
 use crate::gpu::{GpuBrdf, GpuContext};
 
 /// The registry: every evaluator, by the name its spelling starts with.
-pub const EVALUATORS: &[&dyn EvaluatorUnit] = &[
-    &direct::DirectUnit,
-    &paper::PaperUnit,
-    &resonant::ResonantUnit,
-    &table::TableUnit,
-    &constant::ConstantUnit,
+pub const EVALUATORS: &[EvaluatorUnit] = &[
+    direct::UNIT,
+    paper::UNIT,
+    resonant::UNIT,
+    table::UNIT,
+    constant::UNIT,
 ];
 
-/// One kind of evaluation: its name and how its parameter is written and read.
-pub trait EvaluatorUnit: Sync {
+/// One kind of evaluation, as plain data: its name and how its parameter is written and
+/// read.
+#[derive(Clone, Copy, Debug)]
+pub struct EvaluatorUnit {
     /// The word a spelling starts with (`paper` in `paper:32`).
-    fn name(&self) -> &'static str;
+    pub name: &'static str,
     /// The whole spelling with its parameter, for help texts (`paper[:N]`).
-    fn syntax(&self) -> &'static str;
+    pub syntax: &'static str,
     /// What F comes from, in a few words.
-    fn summary(&self) -> &'static str;
-    /// The evaluator that `parameter` (the text after `name:`, `None` without a colon)
+    pub summary: &'static str,
+    /// The evaluator that the parameter (the text after `name:`, `None` without a colon)
     /// configures; the error names what is wrong with it.
-    fn parse(&self, parameter: Option<&str>) -> Result<Arc<dyn Evaluator>, EvaluatorError>;
+    pub parse: fn(Option<&str>) -> Parsed,
 }
+
+/// What parsing a spelling gives: the configured evaluator, or what is wrong with it.
+pub type Parsed = Result<Arc<dyn Evaluator>, EvaluatorError>;
 
 /// Where evaluators find files that the spelling leaves implicit.
 #[derive(Clone, Debug)]
@@ -81,6 +89,11 @@ pub trait Evaluator: Send + Sync + fmt::Debug {
         fabric: &Fabric,
         context: &EvaluationContext,
     ) -> Result<Box<dyn FabricEvaluator>, EvaluatorError>;
+    /// The same unit one setting finer (`true`) or coarser, where its parameter has such
+    /// steps (the viewer's + and − keys); `None` at the end of its range or without steps.
+    fn step(&self, _finer: bool) -> Option<Arc<dyn Evaluator>> {
+        None
+    }
 }
 
 /// One fabric's evaluation of F, on the CPU and (with the runtime) on the GPU.
@@ -110,6 +123,10 @@ pub trait FabricEvaluator: Send + Sync {
     /// The GPU form of this evaluation, or [`EvaluatorError::NoGpuForm`].
     #[cfg(feature = "runtime")]
     fn gpu(&self, context: &GpuContext) -> Result<Box<dyn GpuBrdf>, EvaluatorError>;
+    /// The WGSL module of the GPU form ([`GpuBrdf::wgsl`] of [`Self::gpu`]'s), made without
+    /// a device, or [`EvaluatorError::NoGpuForm`].
+    #[cfg(feature = "runtime")]
+    fn gpu_wgsl(&self) -> Result<String, EvaluatorError>;
 }
 
 /// Why an evaluator could not be parsed, prepared or put on the GPU.
@@ -142,20 +159,20 @@ pub fn parse(spelling: &str) -> Result<Arc<dyn Evaluator>, EvaluatorError> {
         Some((name, parameter)) => (name, Some(parameter)),
         None => (spelling, None),
     };
-    if let Some(unit) = EVALUATORS.iter().find(|u| u.name() == name) {
-        return unit.parse(parameter);
+    if let Some(unit) = EVALUATORS.iter().find(|u| u.name == name) {
+        return (unit.parse)(parameter);
     }
     if Path::new(spelling)
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
     {
-        return table::TableUnit.parse(Some(spelling));
+        return (table::UNIT.parse)(Some(spelling));
     }
     Err(EvaluatorError::Unknown {
         spelling: spelling.to_string(),
         known: EVALUATORS
             .iter()
-            .map(|u| u.syntax())
+            .map(|u| u.syntax)
             .collect::<Vec<_>>()
             .join(", "),
     })
@@ -180,15 +197,23 @@ impl fmt::Display for EvaluatorSpec {
     }
 }
 
-/// How a model evaluation is put on the GPU: its unit's constructor, or what to use
-/// instead where it has none.
+/// How a model evaluation is put on the GPU: its unit's form, or (`Err`) what to use instead
+/// where it has none.
 #[cfg(feature = "runtime")]
-type GpuForm = Result<
-    Box<dyn Fn(&GpuContext, &Fabric) -> Result<Box<dyn GpuBrdf>, EvaluatorError> + Send + Sync>,
-    &'static str,
->;
+type GpuForm = Result<Box<dyn ModelGpuForm>, &'static str>;
 #[cfg(not(feature = "runtime"))]
 type GpuForm = ();
+
+/// A model evaluation's GPU form for a fabric: its WGSL, and its [`GpuBrdf`] on a device.
+#[cfg(feature = "runtime")]
+trait ModelGpuForm: Send + Sync {
+    fn wgsl(&self, fabric: &Fabric) -> String;
+    fn build(
+        &self,
+        context: &GpuContext,
+        fabric: &Fabric,
+    ) -> Result<Box<dyn GpuBrdf>, EvaluatorError>;
+}
 
 /// A fabric evaluated by the model itself with one integration rule (the `direct`, `paper`
 /// and `resonant` units), sampled by the fabric's own sampler.
@@ -231,8 +256,20 @@ impl FabricEvaluator for ModelEvaluation {
 
     #[cfg(feature = "runtime")]
     fn gpu(&self, context: &GpuContext) -> Result<Box<dyn GpuBrdf>, EvaluatorError> {
+        self.gpu_form()?.build(context, &self.fabric)
+    }
+
+    #[cfg(feature = "runtime")]
+    fn gpu_wgsl(&self) -> Result<String, EvaluatorError> {
+        Ok(self.gpu_form()?.wgsl(&self.fabric))
+    }
+}
+
+#[cfg(feature = "runtime")]
+impl ModelEvaluation {
+    fn gpu_form(&self) -> Result<&dyn ModelGpuForm, EvaluatorError> {
         match &self.gpu {
-            Ok(build) => build(context, &self.fabric),
+            Ok(form) => Ok(form.as_ref()),
             Err(instead) => Err(EvaluatorError::NoGpuForm {
                 spelling: self.spelling.clone(),
                 instead,
@@ -243,16 +280,16 @@ impl FabricEvaluator for ModelEvaluation {
 
 /// The parameter error of `unit` for `parameter`.
 fn parameter_error(
-    unit: &dyn EvaluatorUnit,
+    unit: &EvaluatorUnit,
     parameter: Option<&str>,
     message: impl Into<String>,
 ) -> EvaluatorError {
     EvaluatorError::Parameter {
         spelling: match parameter {
-            Some(p) => format!("{}:{p}", unit.name()),
-            None => unit.name().to_string(),
+            Some(p) => format!("{}:{p}", unit.name),
+            None => unit.name.to_string(),
         },
-        syntax: unit.syntax(),
+        syntax: unit.syntax,
         message: message.into(),
     }
 }
@@ -302,15 +339,29 @@ mod tests {
     }
 
     #[test]
+    fn paper_mode_steps_double_and_halve_within_the_shader_s_range() {
+        let step =
+            |spelling: &str, finer| parse(spelling).unwrap().step(finer).map(|e| e.spelling());
+        assert_eq!(step("paper:32", true).as_deref(), Some("paper:64"));
+        assert_eq!(step("paper:32", false).as_deref(), Some("paper:16"));
+        assert_eq!(step("paper:1", false), None);
+        let max = paper::MAX_SHADER_SAMPLES;
+        assert_eq!(step(&format!("paper:{max}"), true), None);
+        assert_eq!(step("paper:1000000", false), None);
+        assert_eq!(step("resonant", true), None);
+        assert_eq!(step("table", false), None);
+    }
+
+    #[test]
     fn every_registered_unit_has_a_distinct_name_and_parses_its_own_name() {
-        let mut names: Vec<&str> = EVALUATORS.iter().map(|u| u.name()).collect();
+        let mut names: Vec<&str> = EVALUATORS.iter().map(|u| u.name).collect();
         names.sort_unstable();
         names.dedup();
         assert_eq!(names.len(), EVALUATORS.len());
         for unit in EVALUATORS {
-            assert!(unit.syntax().starts_with(unit.name()));
-            let evaluator = parse(unit.name()).unwrap();
-            assert!(evaluator.spelling().starts_with(unit.name()));
+            assert!(unit.syntax.starts_with(unit.name));
+            let evaluator = parse(unit.name).unwrap();
+            assert!(evaluator.spelling().starts_with(unit.name));
         }
     }
 }

@@ -1,19 +1,10 @@
-//! The GPU runtime core: a wgpu device (headless or for a window surface), and evaluations of
-//! the patch transfer F(wi, wo) (docs/model.md#the-patch-transfer-f) on the GPU behind one
-//! interface, [`GpuBrdf`]: a WGSL module defining `cloth_brdf(wi, wo)` plus the bind group it
-//! reads.
+//! The GPU runtime core: a wgpu device (headless or for a window surface) and the one
+//! interface, [`GpuBrdf`], behind which every evaluator's GPU form evaluates the patch
+//! transfer F(wi, wo) (docs/model.md#the-patch-transfer-f): a WGSL module defining
+//! `cloth_brdf(wi, wo)` plus the bind group it reads. The GPU forms themselves live with their
+//! evaluators (`src/evaluator/<name>/gpu.rs`, reached through [`crate::evaluator`]'s registry).
 //!
 //! - [`GpuContext`]: device and queue, the adapter's description, GPU timestamps if offered.
-//! - [`GpuTable`]: a baked [`crate::table::Table`] on the GPU, looked up by
-//!   `shaders/table/lookup.wgsl` and its layout's WGSL file specialised for the table (mirrors
-//!   [`crate::table::Table::lookup`]; the layout describes its textures,
-//!   [`crate::table::wgsl::lookup_wgsl`] generates the WGSL).
-//! - [`GpuDirect`]: the model itself evaluated in the shader (`shaders/gpu/paper.wgsl`),
-//!   paper mode with N tangent samples per thread (mirrors `Integration::Paper(N)`).
-//! - [`GpuResonant`]: the resonant quadrature in the shader
-//!   (`shaders/model/resonant_quadrature.wgsl`, specialised per fabric and node counts by [`resonant::resonant_wgsl`]; mirrors
-//!   `Integration::Resonant(nodes)`): Gauss–Legendre nodes per segment placed on each lobe.
-//! - [`GpuConstant`]: F = 1/π, the cost of a frame without BRDF work, for measurements.
 //! - [`GpuSampler`]: a fabric's importance sampler (`shaders/sampling/fabric_sampler.wgsl`,
 //!   mirrors [`crate::sampling::Sampler`]).
 //! - [`evaluate_pairs`]: F(wi, wo) for a list of direction pairs by any [`GpuBrdf`]
@@ -21,18 +12,9 @@
 //!
 //! Every shader is composed by [`crate::shader::Composer`].
 
-pub mod constant;
-pub mod direct;
-pub mod resonant;
-pub mod resonant_kernel;
 pub mod sampler;
-pub mod table;
 
-pub use constant::GpuConstant;
-pub use direct::GpuDirect;
-pub use resonant::GpuResonant;
 pub use sampler::{GpuSampleTaps, GpuSampler};
-pub use table::GpuTable;
 
 use glam::Vec3;
 use std::fmt;
@@ -455,7 +437,7 @@ pub fn empty_bind_group(
 }
 
 /// A bind group layout entry of a [`GpuBrdf`] (visible to [`BRDF_VISIBILITY`]).
-pub(crate) fn brdf_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+pub fn brdf_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: BRDF_VISIBILITY,

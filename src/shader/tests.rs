@@ -57,19 +57,23 @@ fn a_module_required_twice_is_written_once() {
     );
     let text = composer.compose(&["top", "right"]).unwrap();
     assert_eq!(text.matches("fn base()").count(), 1, "{text}");
-    // Files too: split_frame and the resonant quadrature both require the tangent sample.
-    let files = order(&Composer::new(), &["table/split_frame", "gpu/paper"]);
+    // Files too: split_frame and a second module both require the tangent sample.
+    let sampled = "// requires: model/tangent_sample\nfn sampled() {}\n";
+    let files = order(
+        &Composer::new().module("sampled", sampled),
+        &["table/split_frame", "sampled"],
+    );
     let Err(ComposeError::Unknown { name, .. }) = files else {
         panic!("the layout requires the generated table constants: {files:?}");
     };
     assert_eq!(name, TABLE_CONSTANTS);
     let composer = Composer::new()
         .module(TABLE_CONSTANTS, "")
-        .module(RESONANT_RULES, "");
-    let files = order(&composer, &["table/split_frame", "gpu/paper"]).unwrap();
+        .module("sampled", sampled);
+    let files = order(&composer, &["table/split_frame", "sampled"]).unwrap();
     let count = |n: &str| files.iter().filter(|f| *f == n).count();
     assert_eq!(count("model/tangent_sample"), 1, "{files:?}");
-    assert_eq!(files.last().map(String::as_str), Some("gpu/paper"));
+    assert_eq!(files.last().map(String::as_str), Some("sampled"));
 }
 
 #[test]
@@ -245,16 +249,29 @@ fn every_composition_validates() {
             validate(&what, &lookup_wgsl_in_group(&table, "2"));
             brdfs.push((what, lookup));
         }
+        // Every registered evaluator's GPU form at its default spelling (the table's, read
+        // from a file, is the layouts' above).
         #[cfg(feature = "runtime")]
-        brdfs.push((
-            format!("{} resonant", fabric.name),
-            crate::gpu::resonant::resonant_wgsl(fabric, crate::model::ResonantNodes::DEFAULT),
-        ));
+        for unit in crate::evaluator::EVALUATORS {
+            use crate::evaluator::EvaluatorError;
+            let evaluator = (unit.parse)(None).unwrap();
+            let context = crate::evaluator::EvaluationContext {
+                tables: std::path::PathBuf::from("no tables here"),
+            };
+            let wgsl = match evaluator.prepare(fabric, &context) {
+                Ok(evaluation) => evaluation.gpu_wgsl(),
+                Err(EvaluatorError::Table(_)) => continue,
+                Err(e) => panic!("{}: {e}", unit.name),
+            };
+            match wgsl {
+                Ok(wgsl) => brdfs.push((format!("{} {}", fabric.name, evaluator.spelling()), wgsl)),
+                Err(EvaluatorError::NoGpuForm { .. }) => {}
+                Err(e) => panic!("{}: {e}", unit.name),
+            }
+        }
     }
     #[cfg(feature = "runtime")]
     {
-        brdfs.push(("paper".into(), crate::gpu::direct::paper_wgsl()));
-        brdfs.push(("constant".into(), crate::gpu::constant::constant_wgsl()));
         for (what, brdf) in &brdfs {
             assert!(defines(&validate(what, brdf), "cloth_brdf"), "{what}");
             let pairs = crate::gpu::eval_pairs_wgsl(brdf.clone());

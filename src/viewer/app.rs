@@ -4,14 +4,14 @@
 
 use super::controls::{
     self, Action, FrameStats, LightControl, OrbitControl, action_for_key, cycle_index,
-    pixels_to_lines, step_samples,
+    pixels_to_lines,
 };
 use super::shading::FabricGpu;
 use super::surface::{Graphics, depth_view, os_message, surface_config};
 use super::timer::GpuTimer;
-use super::{Shading, ViewError, ViewSummary};
-use crate::evaluator::EvaluationContext;
+use super::{ViewError, ViewSummary};
 use crate::evaluator::table::load_fabric_table;
+use crate::evaluator::{EvaluationContext, Evaluator};
 use crate::formats::table_exr::TableFile;
 use crate::gpu::{GpuContext, GpuSampleTaps};
 use crate::lighting::SplitEnvironment;
@@ -45,9 +45,8 @@ pub(super) struct Setup {
     pub first: usize,
     pub tables: PathBuf,
     pub frames: Option<u32>,
-    pub samples: u32,
-    /// The shading at start.
-    pub shading: Shading,
+    /// The evaluators key V cycles through, the first shown at start.
+    pub evaluators: Vec<Arc<dyn Evaluator>>,
 }
 
 /// Runs the event loop until the window closes; `table` is the first fabric's.
@@ -93,8 +92,11 @@ struct App {
     orbit: OrbitControl,
     light: LightControl,
     stats: FrameStats,
-    shading: Shading,
-    samples: u32,
+    /// The evaluators key V cycles through (+ and − replace the one shown by its finer or
+    /// coarser setting).
+    evaluators: Vec<Arc<dyn Evaluator>>,
+    /// The index in `evaluators` of the one shown.
+    evaluator: usize,
     /// Whether the environment light is on (there is one and key E has not switched it off).
     environment_on: bool,
     /// The environment's rotation about +y, degrees (keys `[` and `]`).
@@ -115,8 +117,8 @@ impl App {
             orbit: OrbitControl::new(setup.scene.camera),
             light: LightControl::new(&setup.scene.lights),
             stats: FrameStats::default(),
-            shading: Shading::Lookup,
-            samples: setup.samples,
+            evaluators: setup.evaluators.clone(),
+            evaluator: 0,
             environment_on: setup.environment.is_some(),
             environment_rotation_deg: 0.0,
             current: setup.first,
@@ -141,7 +143,7 @@ impl App {
 
     /// The spelling of the evaluator shown (`table`, `paper:32`, `resonant:6/5/2`).
     fn mode_label(&self) -> String {
-        self.shading.evaluator(self.samples).spelling()
+        self.evaluators[self.evaluator].spelling()
     }
 
     /// The window, surface, device and renderer, showing the first fabric by lookup.
@@ -215,9 +217,14 @@ impl App {
         Ok(graphics)
     }
 
-    /// Shows fabric `index` with `shading` (paper mode: `samples` per thread), preparing
-    /// what it needs. On error nothing changes and the message says why.
-    fn show(&mut self, index: usize, shading: Shading, samples: u32) -> Result<(), String> {
+    /// Shows fabric `index` by `evaluator` (at `slot` of the list), preparing what it needs.
+    /// On error nothing changes and the message says why.
+    fn show(
+        &mut self,
+        index: usize,
+        slot: usize,
+        evaluator: Arc<dyn Evaluator>,
+    ) -> Result<(), String> {
         let context = EvaluationContext {
             tables: self.setup.tables.clone(),
         };
@@ -235,17 +242,9 @@ impl App {
         };
         if let (true, Some(map)) = (self.environment_on, &g.environment) {
             if f.taps.is_none() {
-                // The environment light is the table's, whatever the mode shown: strata of
-                // its sampler's density, each with the table's ∫F over it.
-                let table = f
-                    .entry(
-                        &g.gpu,
-                        Shading::Lookup.evaluator(samples).as_ref(),
-                        fabric,
-                        &context,
-                    )
-                    .map_err(|e| e.to_string())?;
-                let evaluation = &f.shown[table].evaluation;
+                // The environment light is the table's, whatever is shown: strata of its
+                // sampler's density, each with the table's ∫F over it.
+                let evaluation = &f.shown[0].evaluation;
                 let taps = evaluation
                     .sample_taps(&evaluation.sampler(), self.setup.scene.environment.samples);
                 f.taps = Some(GpuSampleTaps::new(&g.gpu, &taps).map_err(|e| e.to_string())?);
@@ -256,7 +255,6 @@ impl App {
                     .map_err(|e| e.to_string())?;
             }
         }
-        let evaluator = shading.evaluator(samples);
         let unavailable =
             |e: &dyn std::fmt::Display| format!("{} unavailable: {e}", evaluator.spelling());
         let i = f
@@ -266,10 +264,12 @@ impl App {
             .set_brdf(&g.gpu, f.shown[i].brdf.as_ref())
             .map_err(|e| unavailable(&e))?;
         let label = g.renderer.brdf_label().to_string();
-        let changed = (index, shading, samples) != (self.current, self.shading, self.samples);
+        let changed = index != self.current
+            || slot != self.evaluator
+            || evaluator.spelling() != self.mode_label();
         self.current = index;
-        self.shading = shading;
-        self.samples = samples;
+        self.evaluator = slot;
+        self.evaluators[slot] = evaluator;
         if changed {
             self.stats.clear_recent();
             let (name, mode) = (&self.setup.fabrics[index].name, self.mode_label());
@@ -285,23 +285,24 @@ impl App {
     }
 
     /// [`App::show`], reporting a failure on stderr (the view stays as it was).
-    fn show_or_report(&mut self, index: usize, shading: Shading, samples: u32) {
-        if let Err(message) = self.show(index, shading, samples) {
+    fn show_or_report(&mut self, index: usize, slot: usize, evaluator: Arc<dyn Evaluator>) {
+        if let Err(message) = self.show(index, slot, evaluator) {
             eprintln!("clothbake view: {message}");
         }
     }
 
     fn handle(&mut self, event_loop: &ActiveEventLoop, action: Action) {
-        let (index, shading, samples) = (self.current, self.shading, self.samples);
+        let (index, slot) = (self.current, self.evaluator);
+        let shown = self.evaluators[slot].clone();
         match action {
             Action::Quit => event_loop.exit(),
             Action::CycleFabric(step) => {
                 let next = cycle_index(index, step, self.setup.fabrics.len());
-                self.show_or_report(next, shading, samples);
+                self.show_or_report(next, slot, shown);
             }
             Action::SelectFabric(next) => {
                 if next < self.setup.fabrics.len() {
-                    self.show_or_report(next, shading, samples);
+                    self.show_or_report(next, slot, shown);
                 }
             }
             Action::RotateLight {
@@ -315,30 +316,18 @@ impl App {
                 }
             }
             Action::ToggleLightSpin => self.light.spinning = !self.light.spinning,
-            Action::TogglePaper => {
-                let next = match shading {
-                    Shading::Paper => Shading::Lookup,
-                    Shading::Lookup | Shading::Resonant => Shading::Paper,
-                };
-                self.show_or_report(index, next, samples);
+            Action::CycleEvaluator(step) => {
+                let next = cycle_index(slot, step, self.evaluators.len());
+                self.show_or_report(index, next, self.evaluators[next].clone());
             }
-            Action::ToggleResonant => {
-                let next = match shading {
-                    Shading::Resonant => Shading::Lookup,
-                    Shading::Lookup | Shading::Paper => Shading::Resonant,
-                };
-                self.show_or_report(index, next, samples);
-            }
-            Action::Samples(more) => {
-                let next = step_samples(samples, more);
-                if shading == Shading::Paper {
-                    self.show_or_report(index, shading, next);
-                } else {
-                    // Takes effect when paper mode is next shown.
-                    self.samples = next;
-                    println!("clothbake view: paper mode samples N={next}");
-                }
-            }
+            Action::Finer(finer) => match shown.step(finer) {
+                Some(next) => self.show_or_report(index, slot, next),
+                None => println!(
+                    "clothbake view: {} has no {} setting",
+                    shown.spelling(),
+                    if finer { "finer" } else { "coarser" }
+                ),
+            },
             Action::ToggleEnvironment => {
                 if self.setup.environment.is_none() {
                     println!("clothbake view: the scene has no environment light (--env)");
@@ -348,7 +337,7 @@ impl App {
                         "clothbake view: environment light {}",
                         if self.environment_on { "on" } else { "off" }
                     );
-                    self.show_or_report(index, shading, samples);
+                    self.show_or_report(index, slot, shown);
                 }
             }
             Action::RotateEnvironment(degrees) => {
@@ -504,21 +493,21 @@ impl ApplicationHandler for App {
             Ok(graphics) => {
                 println!("{}", controls::KEY_HELP);
                 graphics.window.request_redraw();
-                let label = graphics.renderer.brdf_label().to_string();
                 self.graphics = Some(graphics);
-                if self.setup.shading != Shading::Lookup || self.environment_on {
-                    // Asked for on the command line: failing to build it is an error.
-                    if let Err(message) = self.show(self.current, self.setup.shading, self.samples)
-                    {
-                        self.fail(event_loop, ViewError::Render(message));
-                    }
-                } else {
+                // Asked for on the command line: failing to build it is an error.
+                let first = self.evaluators[0].clone();
+                if let Err(message) = self.show(self.current, 0, first) {
+                    self.fail(event_loop, ViewError::Render(message));
+                    return;
+                }
+                if let Some(g) = &self.graphics {
                     let (name, mode) = (&self.setup.fabrics[self.current].name, self.mode_label());
-                    println!("clothbake view: {name}, {mode} ({label})");
-                    if let Some(g) = &self.graphics {
-                        g.window
-                            .set_title(&controls::title(name, &mode, None, None));
-                    }
+                    println!(
+                        "clothbake view: {name}, {mode} ({})",
+                        g.renderer.brdf_label()
+                    );
+                    g.window
+                        .set_title(&controls::title(name, &mode, None, None));
                 }
             }
             Err(e) => self.fail(event_loop, e),

@@ -28,15 +28,11 @@ pub const MAX_LIGHT_ELEVATION_DEG: f64 = 85.0;
 pub const LIGHT_SPIN_DEG_PER_S: f64 = 45.0;
 /// Environment rotation about +y per `[` / `]` press.
 pub const ENVIRONMENT_STEP_DEG: f64 = 15.0;
-/// Paper-mode samples per thread of the direct shader: the range `+`/`-` move within.
-pub const MIN_SAMPLES: u32 = 1;
-pub const MAX_SAMPLES: u32 = 1024;
-
 /// The key list printed at start.
 pub const KEY_HELP: &str = "\
 keys: left-drag orbit, wheel zoom, Tab / Shift+Tab next / previous fabric, 1-9 fabric,
-      Left/Right/Up/Down move the light, L spin the light, D lookup / direct shading,
-      G lookup / resonant shading, + / - direct shader samples (x2 / /2), E environment
+      Left/Right/Up/Down move the light, L spin the light, V / Shift+V next / previous
+      evaluator, + / - its finer / coarser setting (paper: N x2 / /2), E environment
       light on / off, [ / ] turn the environment, R reset view, Esc or Q quit";
 
 /// What a key press asks for.
@@ -53,12 +49,10 @@ pub enum Action {
         elevation_deg: f64,
     },
     ToggleLightSpin,
-    /// Switch between the table lookup and paper mode in the shader (`GpuDirect`).
-    TogglePaper,
-    /// Switch between the table lookup and the resonant shader (`GpuResonant`).
-    ToggleResonant,
-    /// Double (`true`) or halve the direct shader's samples.
-    Samples(bool),
+    /// Move through the evaluator list by this many places (wrapping).
+    CycleEvaluator(i32),
+    /// Show the evaluator's finer (`true`) or coarser setting ([`crate::evaluator::Evaluator::step`]).
+    Finer(bool),
     /// Switch the environment light off or on.
     ToggleEnvironment,
     /// Turn the environment (light and background) about +y by this many degrees.
@@ -99,15 +93,14 @@ pub fn action_for_key(key: &Key, shift: bool) -> Option<Action> {
             match c.to_ascii_lowercase() {
                 'q' => Some(Action::Quit),
                 'l' => Some(Action::ToggleLightSpin),
-                'd' => Some(Action::TogglePaper),
-                'g' => Some(Action::ToggleResonant),
+                'v' => Some(Action::CycleEvaluator(if shift { -1 } else { 1 })),
                 'e' => Some(Action::ToggleEnvironment),
                 'r' => Some(Action::ResetView),
                 '[' => Some(Action::RotateEnvironment(-ENVIRONMENT_STEP_DEG)),
                 ']' => Some(Action::RotateEnvironment(ENVIRONMENT_STEP_DEG)),
                 // `=` is `+` without Shift on US layouts.
-                '+' | '=' => Some(Action::Samples(true)),
-                '-' | '_' => Some(Action::Samples(false)),
+                '+' | '=' => Some(Action::Finer(true)),
+                '-' | '_' => Some(Action::Finer(false)),
                 '1'..='9' => Some(Action::SelectFabric(c as usize - '1' as usize)),
                 _ => None,
             }
@@ -122,17 +115,6 @@ pub fn cycle_index(current: usize, step: i32, count: usize) -> usize {
         return 0;
     }
     (current as i64 + step as i64).rem_euclid(count as i64) as usize
-}
-
-/// The next sample count after `+` (`more`) or `-`: doubled or halved within
-/// [`MIN_SAMPLES`, `MAX_SAMPLES`].
-pub fn step_samples(samples: u32, more: bool) -> u32 {
-    let next = if more {
-        samples.saturating_mul(2)
-    } else {
-        samples / 2
-    };
-    next.clamp(MIN_SAMPLES, MAX_SAMPLES)
 }
 
 /// The orbit camera under mouse control, starting from (and reset to) the scene's camera.
@@ -378,18 +360,21 @@ mod tests {
             Some(Action::SelectFabric(5))
         );
         assert_eq!(action_for_key(&ch("0"), false), None);
-        assert_eq!(action_for_key(&ch("d"), false), Some(Action::TogglePaper));
-        assert_eq!(action_for_key(&ch("G"), true), Some(Action::ToggleResonant));
+        assert_eq!(
+            action_for_key(&ch("v"), false),
+            Some(Action::CycleEvaluator(1))
+        );
+        assert_eq!(
+            action_for_key(&ch("V"), true),
+            Some(Action::CycleEvaluator(-1))
+        );
         assert_eq!(
             action_for_key(&ch("l"), false),
             Some(Action::ToggleLightSpin)
         );
-        assert_eq!(action_for_key(&ch("+"), true), Some(Action::Samples(true)));
-        assert_eq!(action_for_key(&ch("="), false), Some(Action::Samples(true)));
-        assert_eq!(
-            action_for_key(&ch("-"), false),
-            Some(Action::Samples(false))
-        );
+        assert_eq!(action_for_key(&ch("+"), true), Some(Action::Finer(true)));
+        assert_eq!(action_for_key(&ch("="), false), Some(Action::Finer(true)));
+        assert_eq!(action_for_key(&ch("-"), false), Some(Action::Finer(false)));
         assert_eq!(action_for_key(&ch("r"), false), Some(Action::ResetView));
         assert_eq!(
             action_for_key(&ch("["), false),
@@ -424,15 +409,6 @@ mod tests {
         assert_eq!(cycle_index(0, -1, 6), 5);
         assert_eq!(cycle_index(0, 1, 1), 0);
         assert_eq!(cycle_index(0, 1, 0), 0);
-    }
-
-    #[test]
-    fn samples_double_and_halve_within_range() {
-        assert_eq!(step_samples(32, true), 64);
-        assert_eq!(step_samples(32, false), 16);
-        assert_eq!(step_samples(1, false), MIN_SAMPLES);
-        assert_eq!(step_samples(MAX_SAMPLES, true), MAX_SAMPLES);
-        assert_eq!(step_samples(u32::MAX, true), MAX_SAMPLES);
     }
 
     #[test]

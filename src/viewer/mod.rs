@@ -20,7 +20,6 @@ pub mod controls;
 mod shading;
 mod surface;
 
-pub use shading::Shading;
 mod timer;
 
 use crate::evaluator::table::load_fabric_table;
@@ -32,7 +31,8 @@ use std::path::{Path, PathBuf};
 
 pub use controls::KEY_HELP;
 
-pub use crate::gpu::direct::DEFAULT_SAMPLES;
+use crate::evaluator::Evaluator;
+use std::sync::Arc;
 
 /// What `clothbake view` was asked to show.
 #[derive(Clone, Debug)]
@@ -48,10 +48,9 @@ pub struct ViewOptions {
     pub mesh: Option<PathBuf>,
     /// Draw this many frames, then close (`None`: until the user quits).
     pub frames: Option<u32>,
-    /// Initial samples per thread of the paper-mode shader.
-    pub samples: u32,
-    /// The shading at start (keys D and G switch it).
-    pub shading: Shading,
+    /// The evaluators key V cycles through, the first shown at start (each through its GPU
+    /// form; at least one).
+    pub evaluators: Vec<Arc<dyn Evaluator>>,
 }
 
 /// What a viewing session measured.
@@ -124,13 +123,8 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
             options.tables.display()
         )));
     }
-    if !(controls::MIN_SAMPLES..=controls::MAX_SAMPLES).contains(&options.samples) {
-        return Err(ViewError::Setup(format!(
-            "--samples must be in [{}, {}], got {}",
-            controls::MIN_SAMPLES,
-            controls::MAX_SAMPLES,
-            options.samples
-        )));
+    if options.evaluators.is_empty() {
+        return Err(ViewError::Setup("no evaluator to show".into()));
     }
     let (names, first) = fabric_list(&scene, options.fabric.as_deref());
     let set = FabricSet::load_or_builtin(scene.fabric_file.as_deref())
@@ -192,8 +186,7 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
             first,
             tables: options.tables,
             frames: options.frames,
-            samples: options.samples,
-            shading: options.shading,
+            evaluators: options.evaluators,
         },
         table,
     )
@@ -253,8 +246,7 @@ mod tests {
             tables: dir.to_path_buf(),
             mesh: None,
             frames: Some(1),
-            samples: DEFAULT_SAMPLES,
-            shading: Shading::Lookup,
+            evaluators: vec![crate::evaluator::parse("table").unwrap()],
         };
         let e = run(options.clone()).unwrap_err().to_string();
         assert!(

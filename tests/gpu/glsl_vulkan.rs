@@ -10,7 +10,8 @@ use crate::common::*;
 
 use ash::vk;
 use clothbake::bake::bake;
-use clothbake::gpu::{GpuTable, evaluate_pairs};
+use clothbake::evaluator::table::gpu::GpuTable;
+use clothbake::gpu::evaluate_pairs;
 use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::table::shader_language::{ShaderLanguage, lookup_shader};
 use clothbake::table::{Layout, Table, TextureData};

@@ -17,8 +17,9 @@
 use crate::common::*;
 
 use clothbake::bake::bake;
+use clothbake::evaluator::table::gpu::GpuTable;
 use clothbake::formats::fabric_toml::FabricSet;
-use clothbake::gpu::{GpuBrdf, GpuTable, evaluate_pairs};
+use clothbake::gpu::{GpuBrdf, evaluate_pairs};
 use clothbake::measure::direction_sets::{highlight_pairs, uniform_pairs};
 use clothbake::table::gpu_bound::GpuErrorBound;
 use clothbake::table::{Layout, Table};

@@ -16,9 +16,9 @@ mod chi2;
 #[path = "../common/mod.rs"]
 mod common;
 
-mod direct;
 mod glsl_vulkan;
 mod lookup;
+mod paper;
 mod render;
 mod render_environment;
 mod resonant;

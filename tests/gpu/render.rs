@@ -15,8 +15,14 @@
 use crate::common::*;
 
 use clothbake::bake::bake;
+use clothbake::evaluator::constant::gpu::GpuConstant;
+use clothbake::evaluator::paper::gpu::GpuPaper;
+use clothbake::evaluator::resonant::gpu::GpuResonant;
+use clothbake::evaluator::table::gpu::GpuTable;
+use clothbake::evaluator::{EVALUATORS, EvaluationContext, EvaluatorError};
+use clothbake::formats::table_exr::write_table;
 use clothbake::formats::fabric_toml::FabricSet;
-use clothbake::gpu::{GpuBrdf, GpuConstant, GpuContext, GpuDirect, GpuResonant, GpuTable};
+use clothbake::gpu::{GpuBrdf, GpuContext};
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use clothbake::render::image::{LinearImage, image_error, read_linear_exr, write_linear_exr};
 use clothbake::render::{FrameSettings, Headless, LightSource, reference};
@@ -174,7 +180,65 @@ fn assert_render_matches_cpu(
 }
 
 #[test]
-fn direct_shader_render_equals_cpu_paper_mode_shading_of_the_same_pixels() {
+fn every_registered_gpu_form_renders_what_its_cpu_evaluation_shades() {
+    // The evaluator registry's GPU conformance: every unit at its default spelling, reached
+    // only through `EVALUATORS`, on two fabrics; its GPU form's render against the CPU's
+    // shading of the same G-buffer pixels with the same evaluation's `eval`. A unit without a
+    // GPU form says so and is skipped; a unit added to the registry is tested here with no
+    // other edit. The bound is the lookup's (below): texture filtering and f32 coordinates,
+    // measured on lavapipe up to 1.8e-4, and the model's forms in f32 far within it; a wrong
+    // frame, light or F gives percents.
+    let context = gpu_context();
+    let dir = temp_dir("render-evaluators");
+    let names = ["polyester_satin_charmeuse", "velvet"];
+    for name in names {
+        let path = dir.join(format!("{name}.exr"));
+        write_table(&path, table(name)).unwrap();
+    }
+    let files = EvaluationContext {
+        tables: dir.to_path_buf(),
+    };
+    let settings = settings();
+    for unit in EVALUATORS {
+        let evaluator = (unit.parse)(None).unwrap();
+        for name in names {
+            let fabric = FabricSet::builtin().get(name).unwrap().clone();
+            let evaluation = evaluator.prepare(&fabric, &files).unwrap();
+            let brdf = match evaluation.gpu(&context) {
+                Ok(brdf) => brdf,
+                Err(error @ EvaluatorError::NoGpuForm { .. }) => {
+                    println!("{}: {error}", evaluator.spelling());
+                    break;
+                }
+                Err(error) => panic!("{}: {error}", evaluator.spelling()),
+            };
+            let mut headless = Headless::new(&context, &mesh(), brdf.as_ref(), SIDE, SIDE).unwrap();
+            let gpu = headless.render(&context, &settings, 1).unwrap().linear;
+            let gbuffer = headless.gbuffer(&context, &settings).unwrap();
+            let cpu = reference::shade_with(&gbuffer, &settings, |wi, wo| evaluation.eval(wi, wo), None);
+            let error = image_error(&gpu, &cpu, settings.exposure).unwrap();
+            println!(
+                "{name}: {} ({}) on {} against its CPU evaluation: relative L2 {:.2e}, {} pixels",
+                evaluator.spelling(),
+                brdf.label(),
+                context.adapter,
+                error.relative_l2,
+                error.covered
+            );
+            assert!(error.covered > 1000);
+            assert_eq!(error.coverage_mismatch, 0);
+            assert!(
+                error.relative_l2 < 1e-3,
+                "{name}: {} renders {:.2e} (relative L2) off its CPU evaluation",
+                evaluator.spelling(),
+                error.relative_l2
+            );
+        }
+    }
+}
+
+#[test]
+fn paper_shader_render_equals_cpu_paper_mode_shading_of_the_same_pixels() {
     // The render pass and the CPU shade the same G-buffer pixels with the same paper-mode F,
     // so the difference is f32 arithmetic alone (frame, directions, irradiance, F): a wrong
     // frame, light or falloff shows up as percent-level differences.
@@ -182,14 +246,14 @@ fn direct_shader_render_equals_cpu_paper_mode_shading_of_the_same_pixels() {
     for name in ["polyester_satin_charmeuse", "velvet"] {
         let fabric = FabricSet::builtin().get(name).unwrap().clone();
         let samples = 8;
-        let brdf = GpuDirect::new(&context, &fabric, samples).unwrap();
+        let brdf = GpuPaper::new(&context, &fabric, samples).unwrap();
         assert_render_matches_cpu(&context, &fabric, &brdf, Integration::Paper(samples));
     }
 }
 
 #[test]
 fn resonant_shader_render_equals_cpu_resonant_shading_of_the_same_pixels() {
-    // As for the direct shader: the same G-buffer pixels shaded with the same resonant rule
+    // As for the paper-mode shader: the same G-buffer pixels shaded with the same resonant rule
     // on both sides, so the difference is f32 arithmetic (tests/gpu/resonant.rs bounds it per
     // pair: relative RMS ≤ 1e-5).
     let context = gpu_context();
@@ -225,7 +289,7 @@ fn constant_shader_render_equals_cpu_shading_with_f_one_over_pi() {
     );
     assert!(error.covered > 1000);
     assert_eq!(error.coverage_mismatch, 0);
-    // The same bound as the direct shader's test above (f32 against f64 for the same
+    // The same bound as the paper-mode shader's test above (f32 against f64 for the same
     // directions and irradiances).
     assert!(
         error.relative_l2 < 1e-4,

@@ -10,7 +10,8 @@
 use crate::common::*;
 
 use clothbake::bake::bake;
-use clothbake::gpu::{GpuContext, GpuSampleTaps, GpuTable};
+use clothbake::evaluator::table::gpu::GpuTable;
+use clothbake::gpu::{GpuContext, GpuSampleTaps};
 use clothbake::lighting::bright_sources::MAX_SOURCES;
 use clothbake::lighting::{Environment, GeneratedEnvironment, disk_above_horizon};
 use clothbake::measure::accuracy::lookup_f32;

@@ -44,7 +44,8 @@
 
 use crate::common::*;
 
-use clothbake::gpu::{GpuBrdf, GpuContext, GpuResonant, evaluate_pairs};
+use clothbake::evaluator::resonant::gpu::GpuResonant;
+use clothbake::gpu::{GpuBrdf, GpuContext, evaluate_pairs};
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use glam::{DVec3, Vec3};
 

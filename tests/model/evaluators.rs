@@ -44,7 +44,7 @@ fn every_registered_evaluator_keeps_its_promises() {
     };
     let pairs = pairs();
     for unit in EVALUATORS {
-        let evaluator = unit.parse(None).unwrap();
+        let evaluator = (unit.parse)(None).unwrap();
         let spelling = evaluator.spelling();
         assert_eq!(parse(&spelling).unwrap().spelling(), spelling);
         for (k, fabric) in builtin().into_iter().enumerate() {

@@ -112,7 +112,7 @@ fn load_fabrics(path: PathBuf) -> PyResult<Vec<Fabric>> {
 /// `table[:PATH]`, `constant`).
 #[pyfunction]
 fn evaluator_syntaxes() -> Vec<&'static str> {
-    evaluator::EVALUATORS.iter().map(|u| u.syntax()).collect()
+    evaluator::EVALUATORS.iter().map(|u| u.syntax).collect()
 }
 
 /// Refuses an array `name` whose shape is not (N, 3).

@@ -2,8 +2,12 @@
 //! of a frame (rasterisation, shading frame, tone mapping without BRDF work), so a BRDF's
 //! own cost is its frame time minus this one's.
 
+#[cfg(feature = "runtime")]
+pub mod gpu;
+
 use super::{
-    EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, parameter_error,
+    EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, Parsed,
+    parameter_error,
 };
 use crate::model::Fabric;
 use crate::sampling::Sampler;
@@ -11,26 +15,18 @@ use glam::DVec3;
 use std::f64::consts::FRAC_1_PI;
 use std::sync::Arc;
 
-pub struct ConstantUnit;
+/// The unit's entry in the registry.
+pub const UNIT: EvaluatorUnit = EvaluatorUnit {
+    name: "constant",
+    syntax: "constant",
+    summary: "F = 1/π above the horizon: a frame's cost floor, not a model",
+    parse,
+};
 
-impl EvaluatorUnit for ConstantUnit {
-    fn name(&self) -> &'static str {
-        "constant"
-    }
-
-    fn syntax(&self) -> &'static str {
-        "constant"
-    }
-
-    fn summary(&self) -> &'static str {
-        "F = 1/π above the horizon: a frame's cost floor, not a model"
-    }
-
-    fn parse(&self, parameter: Option<&str>) -> Result<Arc<dyn Evaluator>, EvaluatorError> {
-        match parameter {
-            None => Ok(Arc::new(Constant)),
-            Some(_) => Err(parameter_error(self, parameter, "takes no parameter")),
-        }
+fn parse(parameter: Option<&str>) -> Parsed {
+    match parameter {
+        None => Ok(Arc::new(Constant)),
+        Some(_) => Err(parameter_error(&UNIT, parameter, "takes no parameter")),
     }
 }
 
@@ -80,6 +76,11 @@ impl FabricEvaluator for ConstantEvaluation {
         &self,
         context: &crate::gpu::GpuContext,
     ) -> Result<Box<dyn crate::gpu::GpuBrdf>, EvaluatorError> {
-        Ok(Box::new(crate::gpu::GpuConstant::new(context)))
+        Ok(Box::new(gpu::GpuConstant::new(context)))
+    }
+
+    #[cfg(feature = "runtime")]
+    fn gpu_wgsl(&self) -> Result<String, EvaluatorError> {
+        Ok(gpu::constant_wgsl())
     }
 }

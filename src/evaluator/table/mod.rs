@@ -4,8 +4,12 @@
 //! with one, that file as it is (it records its fabric). A path ending in `.exr` alone is
 //! read as `table:PATH`.
 
+#[cfg(feature = "runtime")]
+pub mod gpu;
+
 use super::{
-    EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, parameter_error,
+    EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, Parsed,
+    parameter_error,
 };
 use crate::formats::table_exr::{TableFile, TableFileError, read_table};
 use crate::measure::accuracy::{lookup_batch_f64, lookup_f32};
@@ -16,39 +20,31 @@ use glam::DVec3;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-pub struct TableUnit;
+/// The unit's entry in the registry.
+pub const UNIT: EvaluatorUnit = EvaluatorUnit {
+    name: "table",
+    syntax: "table[:PATH]",
+    summary: "a baked table's lookup (default: TABLES/FABRIC.exr)",
+    parse,
+};
 
-impl EvaluatorUnit for TableUnit {
-    fn name(&self) -> &'static str {
-        "table"
-    }
-
-    fn syntax(&self) -> &'static str {
-        "table[:PATH]"
-    }
-
-    fn summary(&self) -> &'static str {
-        "a baked table's lookup (default: TABLES/FABRIC.exr)"
-    }
-
-    fn parse(&self, parameter: Option<&str>) -> Result<Arc<dyn Evaluator>, EvaluatorError> {
-        match parameter {
-            None => Ok(Arc::new(TableLookup { path: None })),
-            Some("") => Err(parameter_error(self, parameter, "the path is empty")),
-            Some(path) => Ok(Arc::new(TableLookup {
-                path: Some(PathBuf::from(path)),
-            })),
-        }
+fn parse(parameter: Option<&str>) -> Parsed {
+    match parameter {
+        None => Ok(Arc::new(BakedTable { path: None })),
+        Some("") => Err(parameter_error(&UNIT, parameter, "the path is empty")),
+        Some(path) => Ok(Arc::new(BakedTable {
+            path: Some(PathBuf::from(path)),
+        })),
     }
 }
 
 /// A table's lookup: the file at `path`, or the fabric's table in the tables directory.
 #[derive(Debug)]
-pub struct TableLookup {
+pub struct BakedTable {
     pub path: Option<PathBuf>,
 }
 
-impl Evaluator for TableLookup {
+impl Evaluator for BakedTable {
     fn spelling(&self) -> String {
         match &self.path {
             None => "table".into(),
@@ -156,6 +152,11 @@ impl FabricEvaluator for TableEvaluation {
         &self,
         context: &crate::gpu::GpuContext,
     ) -> Result<Box<dyn crate::gpu::GpuBrdf>, EvaluatorError> {
-        Ok(Box::new(crate::gpu::GpuTable::new(context, &self.table)?))
+        Ok(Box::new(gpu::GpuTable::new(context, &self.table)?))
+    }
+
+    #[cfg(feature = "runtime")]
+    fn gpu_wgsl(&self) -> Result<String, EvaluatorError> {
+        Ok(crate::table::wgsl::lookup_wgsl(&self.table))
     }
 }

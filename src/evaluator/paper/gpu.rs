@@ -1,38 +1,35 @@
-//! [`GpuDirect`]: the model of docs/model.md evaluated in the shader
-//! (`shaders/gpu/paper.wgsl`) in f32, in paper mode: N stratified tangent samples per thread,
-//! the same nodes and weights as the CPU's `Patch::new(fabric, Integration::Paper(N))`.
+//! [`GpuPaper`]: the model of docs/model.md evaluated in the shader (`paper.wgsl`) in f32,
+//! in paper mode: N stratified tangent samples per thread, the same nodes and weights as the
+//! CPU's `Patch::new(fabric, Integration::Paper(N))`.
 
-use super::{GpuBrdf, GpuContext, GpuError, brdf_entry};
+use super::MAX_SHADER_SAMPLES;
+use crate::gpu::{GpuBrdf, GpuContext, GpuError, brdf_entry};
 use crate::model::curve::{Integration, curve_pieces};
 use crate::model::{Fabric, Thread};
+use crate::shader::ShaderFile;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-/// The registered module of the paper-mode shader (`shaders/gpu/paper.wgsl`, defines
-/// `cloth_brdf`).
-pub const MODULE: &str = "gpu/paper";
+/// The paper-mode shader's own file (defines `cloth_brdf`).
+pub const FILE: ShaderFile = ShaderFile {
+    name: "evaluator/paper",
+    path: "src/evaluator/paper/paper.wgsl",
+    source: include_str!("paper.wgsl"),
+};
 
-/// The complete WGSL module of [`GpuDirect`]: `shaders/gpu/paper.wgsl` after the tangent
-/// sample it requires, its bindings in group 0.
+/// The complete WGSL module of [`GpuPaper`]: `paper.wgsl` after the tangent sample it
+/// requires, its bindings in group 0.
 pub fn paper_wgsl() -> String {
     crate::shader::Composer::new()
-        .compose(&[MODULE])
+        .unit_file(&FILE)
+        .compose(&[FILE.name])
         .expect("the paper-mode shader composes (validated in the tests)")
 }
 
-/// Most tangent samples per thread [`GpuDirect::new`] accepts: the per-pair cost grows
-/// linearly with N, and far beyond the paper's handful of samples a table or the CPU's
-/// converged rule is the better tool.
-pub const MAX_SAMPLES: u32 = 1024;
-
-/// Tangent samples per thread of the direct shader when none are asked for: N = 32, the
-/// comparison point of the runtime's cost and error figures.
-pub const DEFAULT_SAMPLES: u32 = crate::model::curve::DEFAULT_PAPER_SAMPLES;
-
-/// One thread family as `ClothDirectThread` of shaders/gpu/paper.wgsl reads it.
+/// One thread family as `ClothPaperThread` of paper.wgsl reads it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct DirectThread {
+pub struct PaperThread {
     pub t0: [f32; 4],
     pub b: [f32; 4],
     pub albedo: [f32; 4],
@@ -44,12 +41,12 @@ pub struct DirectThread {
     pub nodes: [u32; 4],
 }
 
-/// The uniform block of shaders/gpu/paper.wgsl (`ClothDirectParams`): both threads and `misc` =
+/// The uniform block of paper.wgsl (`ClothPaperParams`): both threads and `misc` =
 /// (−1/(2σu²), gap, degenerate-projection threshold, 0).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct DirectParams {
-    pub threads: [DirectThread; 2],
+pub struct PaperParams {
+    pub threads: [PaperThread; 2],
     pub misc: [f32; 4],
 }
 
@@ -79,24 +76,24 @@ fn thread_nodes(fabric: &Fabric, thread: &Thread, samples: u32) -> Result<Vec<[f
         .collect()
 }
 
-/// The model evaluated directly in the shader with N tangent samples per thread (paper mode),
-/// a [`GpuBrdf`]. Bindings (group 0): 0 the uniform block [`DirectParams`], 1 a read-only
+/// The model evaluated in the shader with N tangent samples per thread (paper mode), a
+/// [`GpuBrdf`]. Bindings (group 0): 0 the uniform block [`PaperParams`], 1 a read-only
 /// storage buffer of the tangent nodes of both threads.
-pub struct GpuDirect {
+pub struct GpuPaper {
     samples: u32,
     bind_group_layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
 }
 
-impl GpuDirect {
-    /// Prepares `fabric` for direct evaluation with `samples` = N tangent samples per thread
-    /// (`Integration::Paper(N)`), N in 1..=[`MAX_SAMPLES`]. Fails with
+impl GpuPaper {
+    /// Prepares `fabric` for paper mode with `samples` = N tangent samples per thread
+    /// (`Integration::Paper(N)`), N in 1..=[`MAX_SHADER_SAMPLES`]. Fails with
     /// [`GpuError::Invalid`] for another N or an invalid fabric (see [`Fabric::validate`]).
     pub fn new(context: &GpuContext, fabric: &Fabric, samples: u32) -> Result<Self, GpuError> {
-        if !(1..=MAX_SAMPLES).contains(&samples) {
+        if !(1..=MAX_SHADER_SAMPLES).contains(&samples) {
             return Err(GpuError::Invalid {
                 name: "tangent samples per thread".into(),
-                message: format!("must be within 1..={MAX_SAMPLES}, got {samples}"),
+                message: format!("must be within 1..={MAX_SHADER_SAMPLES}, got {samples}"),
             });
         }
         fabric.validate().map_err(|e| GpuError::Invalid {
@@ -112,10 +109,10 @@ impl GpuDirect {
     pub fn prepare(
         fabric: &Fabric,
         samples: u32,
-    ) -> Result<(DirectParams, Vec<[f32; 4]>), GpuError> {
+    ) -> Result<(PaperParams, Vec<[f32; 4]>), GpuError> {
         let options = fabric.options;
         let mut nodes = Vec::new();
-        let mut threads = [DirectThread::default(); 2];
+        let mut threads = [PaperThread::default(); 2];
         for (j, thread) in fabric.threads().into_iter().enumerate() {
             let (t0, b) = if j == 0 {
                 ([1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0])
@@ -128,7 +125,7 @@ impl GpuDirect {
             let [kv, pv] = unit_area_gaussian(sigma_v);
             let [r, g, bl] = thread.albedo_rgb().map(|c| c as f32);
             let thread_nodes = thread_nodes(fabric, thread, samples)?;
-            threads[j] = DirectThread {
+            threads[j] = PaperThread {
                 t0,
                 b,
                 albedo: [r, g, bl, 0.0],
@@ -145,7 +142,7 @@ impl GpuDirect {
         }
         let sigma_u = options.sigma_u_deg.to_radians();
         let gap = (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0);
-        let params = DirectParams {
+        let params = PaperParams {
             threads,
             misc: [
                 (-0.5 / (sigma_u * sigma_u)) as f32,
@@ -160,22 +157,22 @@ impl GpuDirect {
     fn create(
         context: &GpuContext,
         samples: u32,
-        params: &DirectParams,
+        params: &PaperParams,
         nodes: &[[f32; 4]],
     ) -> Self {
         let device = &context.device;
         let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("direct params"),
+            label: Some("paper params"),
             contents: bytemuck::bytes_of(params),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let node_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("direct nodes"),
+            label: Some("paper nodes"),
             contents: bytemuck::cast_slice(nodes),
             usage: wgpu::BufferUsages::STORAGE,
         });
         let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("direct"),
+            label: Some("paper"),
             entries: &[
                 brdf_entry(
                     0,
@@ -183,7 +180,7 @@ impl GpuDirect {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
                         min_binding_size: wgpu::BufferSize::new(
-                            std::mem::size_of::<DirectParams>() as u64,
+                            std::mem::size_of::<PaperParams>() as u64
                         ),
                     },
                 ),
@@ -198,7 +195,7 @@ impl GpuDirect {
             ],
         });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("direct"),
+            label: Some("paper"),
             layout: &bind_group_layout,
             entries: &[
                 wgpu::BindGroupEntry {
@@ -219,7 +216,7 @@ impl GpuDirect {
     }
 }
 
-impl GpuBrdf for GpuDirect {
+impl GpuBrdf for GpuPaper {
     fn wgsl(&self) -> String {
         paper_wgsl()
     }
@@ -244,15 +241,15 @@ mod tests {
 
     #[test]
     fn uniform_sizes_match_wgsl() {
-        assert_eq!(std::mem::size_of::<DirectThread>(), 6 * 16);
-        assert_eq!(std::mem::size_of::<DirectParams>(), 2 * 6 * 16 + 16);
+        assert_eq!(std::mem::size_of::<PaperThread>(), 6 * 16);
+        assert_eq!(std::mem::size_of::<PaperParams>(), 2 * 6 * 16 + 16);
     }
 
     #[test]
     fn nodes_are_the_paper_mode_nodes_with_unit_weight_per_thread() {
         for fabric in FabricSet::builtin().fabrics() {
             for n in [1, 8, 32] {
-                let (params, nodes) = GpuDirect::prepare(fabric, n).unwrap();
+                let (params, nodes) = GpuPaper::prepare(fabric, n).unwrap();
                 for thread in params.threads {
                     let [first, count, _, _] = thread.nodes.map(|v| v as usize);
                     assert!((1..=n as usize).contains(&count));

@@ -12,7 +12,7 @@
 //! geometry and albedos agree, so a renderer switching between fabrics compiles one
 //! pipeline per fabric.
 
-use super::{GpuBrdf, GpuContext, GpuError, brdf_entry};
+use crate::gpu::{GpuBrdf, GpuContext, GpuError, brdf_entry};
 use crate::table::wgsl::lookup_wgsl;
 use crate::table::{Table, TextureData};
 

@@ -1,11 +1,11 @@
-//! The resonant quadrature's WGSL kernel (`shaders/model/resonant_quadrature.wgsl`)
+//! The resonant quadrature's WGSL kernel (`quadrature.wgsl` in this folder)
 //! specialised for a fabric: the rule's constants (the generated module
 //! [`crate::shader::RESONANT_RULES`] that the kernel requires) and, per thread, `cloth_resonant_means_j(wi, wo)`, the thread's curve
 //! means (⟨reflection⟩, ⟨transmission⟩, ⟨P⟩) of `ThreadModel::means` with
 //! `Integration::Resonant(nodes)`, in f32.
 //!
-//! The resonant quadrature's shader (`clothbake::gpu::resonant`, which adds `cloth_brdf`)
-//! uses it; no table lookup does.
+//! The resonant quadrature's shader ([`super::gpu`], which adds `cloth_brdf`) uses it; no
+//! table lookup does.
 
 use crate::model::Fabric;
 use crate::model::curve::{Integration, curve_pieces};

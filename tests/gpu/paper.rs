@@ -1,4 +1,4 @@
-//! The GPU direct evaluation (`shaders/gpu/paper.wgsl` through `clothbake::gpu::GpuDirect`, f32)
+//! Paper mode on the GPU (`src/evaluator/paper/paper.wgsl` through `GpuPaper`, f32)
 //! against the CPU's `Patch::new(fabric, Integration::Paper(N)).eval` (f64), for the six
 //! built-in fabrics, N ∈ {1, 8, 32}, on uniform pairs, highlight pairs and the curated hard
 //! cases of tests/common (which add the stressed fabric variants).
@@ -39,7 +39,8 @@
 use crate::common;
 use crate::common::*;
 
-use clothbake::gpu::{GpuBrdf, GpuContext, GpuDirect, GpuError, evaluate_pairs};
+use clothbake::evaluator::paper::gpu::GpuPaper;
+use clothbake::gpu::{GpuBrdf, GpuContext, GpuError, evaluate_pairs};
 use clothbake::model::{Fabric, Integration, Patch};
 use glam::Vec3;
 
@@ -98,7 +99,7 @@ fn atan2_error(context: &GpuContext) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Compares the GPU direct shader with the CPU's paper mode at N = `samples` on `pairs`
+/// Compares the paper-mode shader with the CPU's paper mode at N = `samples` on `pairs`
 /// (named by `names`), within the bound of the module doc.
 fn compare(
     context: &GpuContext,
@@ -109,7 +110,7 @@ fn compare(
     names: &[String],
     label: &str,
 ) -> (GpuCpuStats, Vec<String>) {
-    let brdf = GpuDirect::new(context, fabric, samples).expect("GpuDirect");
+    let brdf = GpuPaper::new(context, fabric, samples).expect("GpuPaper");
     let patch = Patch::new(fabric, Integration::Paper(samples));
     let relative =
         BASE_RELATIVE + LOBE_REACH * (atan2_error + ATAN2_ARGUMENT_ERROR) / sigma_min(fabric);
@@ -179,7 +180,7 @@ fn sample_count_is_validated() {
     let context = gpu_context();
     let fabric = common::fabric("velvet");
     for samples in [0, gpu_max_samples() + 1] {
-        match GpuDirect::new(&context, &fabric, samples) {
+        match GpuPaper::new(&context, &fabric, samples) {
             Err(GpuError::Invalid { name, message }) => {
                 assert!(name.contains("samples"), "{name}: {message}");
                 assert!(message.contains(&samples.to_string()), "{message}");
@@ -188,10 +189,10 @@ fn sample_count_is_validated() {
             Ok(_) => panic!("N = {samples} was accepted"),
         }
     }
-    let direct = GpuDirect::new(&context, &fabric, gpu_max_samples()).expect("max N");
-    assert_eq!(direct.label(), format!("paper N={}", gpu_max_samples()));
+    let paper = GpuPaper::new(&context, &fabric, gpu_max_samples()).expect("max N");
+    assert_eq!(paper.label(), format!("paper N={}", gpu_max_samples()));
 }
 
 fn gpu_max_samples() -> u32 {
-    clothbake::gpu::direct::MAX_SAMPLES
+    clothbake::evaluator::paper::MAX_SHADER_SAMPLES
 }

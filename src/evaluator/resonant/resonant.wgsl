@@ -1,10 +1,10 @@
-// The resonant quadrature's `cloth_brdf` (src/gpu/resonant.rs), after
-// shaders/model/resonant_quadrature.wgsl and the generated module `resonant_fabric`: the
+// The resonant quadrature's `cloth_brdf` (gpu.rs beside this file), after the kernel
+// quadrature.wgsl and the generated module `resonant_fabric`: the
 // constants `CLOTH_RESONANT_COVERAGE`, `CLOTH_RESONANT_GAP` and `CLOTH_RESONANT_ALBEDO_0/1`
 // and the functions `cloth_resonant_means_0/1`; the kernel is its own file, apart from this
 // `cloth_brdf`.
 //
-// requires: model/resonant_quadrature, resonant_fabric
+// requires: evaluator/resonant_quadrature, resonant_fabric
 
 // `Patch::eval`: F = [a1⟨s⟩1 + a2⟨s⟩2]/Q, Q = a1⟨P⟩1 + a2⟨P⟩2 + gap·wo.z; 0 below the
 // horizon and where Q = 0.

@@ -4,13 +4,13 @@
 // `ResonantRule::means`/`segment` (same node placement, same thresholds) and
 // `ThreadModel::sample`/`pair_frame` of src/model/patch.rs.
 //
-// This file is a template: src/gpu/resonant_kernel.rs generates, per fabric and node
+// This file is a template: kernel.rs beside it generates, per fabric and node
 // counts, the constants it names (`CLOTH_RESONANT_*`: thresholds from the Rust constants and
 // the Gauss–Legendre rules computed in f64 and rounded, the generated module `resonant_rules`
 // that this file requires) and the functions `cloth_resonant_means_0/1` (with the threads'
 // parameters), which call `cloth_resonant_point` and `cloth_resonant_segment` once per curve
 // piece of the thread (the fabric's curve unrolled). The resonant quadrature's shader uses it
-// (src/gpu/resonant.rs, with shaders/gpu/resonant.wgsl).
+// (gpu.rs, with resonant.wgsl).
 //
 // Where f32 would lose what f64 keeps:
 // - Φ in the lower tail comes from erfc of a positive argument (relative accuracy ~1e-7

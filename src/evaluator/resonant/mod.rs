@@ -1,0 +1,97 @@
+//! `resonant[:S/V/B]`: the resonant quadrature (docs/model.md#resonant-quadrature) with S
+//! Gauss–Legendre nodes per segment on the surface lobe, V on the volume lobe and B for
+//! ⟨P⟩ and the kd term; on the CPU and in the shader ([`gpu::GpuResonant`], the WGSL files
+//! in this folder).
+
+#[cfg(feature = "runtime")]
+pub mod gpu;
+#[cfg(feature = "runtime")]
+pub mod kernel;
+
+use super::{
+    EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, ModelEvaluation,
+    Parsed, parameter_error,
+};
+use crate::model::{Fabric, Integration, ResonantNodes};
+use std::sync::Arc;
+
+/// The unit's entry in the registry.
+pub const UNIT: EvaluatorUnit = EvaluatorUnit {
+    name: "resonant",
+    syntax: "resonant[:S/V/B]",
+    summary: "the resonant quadrature: S/V/B nodes per segment (surface, volume, base)",
+    parse,
+};
+
+fn parse(parameter: Option<&str>) -> Parsed {
+    let Some(text) = parameter else {
+        return Ok(Arc::new(Resonant {
+            nodes: ResonantNodes::DEFAULT,
+        }));
+    };
+    let counts: Vec<Option<u32>> = text.split('/').map(|n| n.parse().ok()).collect();
+    let nodes = match counts[..] {
+        [Some(surface), Some(volume), Some(base)] => ResonantNodes {
+            surface,
+            volume,
+            base,
+        },
+        _ => {
+            return Err(parameter_error(
+                &UNIT,
+                parameter,
+                "give three whole node counts",
+            ));
+        }
+    };
+    nodes
+        .validate()
+        .map_err(|e| parameter_error(&UNIT, parameter, e.to_string()))?;
+    Ok(Arc::new(Resonant { nodes }))
+}
+
+/// The resonant quadrature with these node counts.
+#[derive(Debug)]
+pub struct Resonant {
+    pub nodes: ResonantNodes,
+}
+
+impl Evaluator for Resonant {
+    fn spelling(&self) -> String {
+        format!("resonant:{}", self.nodes)
+    }
+
+    fn prepare(
+        &self,
+        fabric: &Fabric,
+        _context: &EvaluationContext,
+    ) -> Result<Box<dyn FabricEvaluator>, EvaluatorError> {
+        #[cfg(feature = "runtime")]
+        let gpu: super::GpuForm = Ok(Box::new(Resonant { nodes: self.nodes }));
+        #[cfg(not(feature = "runtime"))]
+        let gpu = ();
+        Ok(ModelEvaluation::boxed(
+            self.spelling(),
+            fabric,
+            Integration::Resonant(self.nodes),
+            gpu,
+        ))
+    }
+}
+
+#[cfg(feature = "runtime")]
+impl super::ModelGpuForm for Resonant {
+    fn wgsl(&self, fabric: &Fabric) -> String {
+        gpu::resonant_wgsl(fabric, self.nodes)
+    }
+
+    fn build(
+        &self,
+        context: &crate::gpu::GpuContext,
+        fabric: &Fabric,
+    ) -> Result<Box<dyn crate::gpu::GpuBrdf>, EvaluatorError> {
+        Ok(Box::new(gpu::GpuResonant::new(
+            context, fabric, self.nodes,
+        )?))
+    }
+}
