@@ -15,6 +15,7 @@ pub const UNIT: EvaluatorUnit = EvaluatorUnit {
     syntax: "direct",
     summary: "the converged direct rule, the ground truth (CPU only)",
     parse,
+    report: None,
 };
 
 fn parse(parameter: Option<&str>) -> Parsed {

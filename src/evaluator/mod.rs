@@ -59,6 +59,36 @@ pub struct EvaluatorUnit {
     /// The evaluator that the parameter (the text after `name:`, `None` without a colon)
     /// configures; the error names what is wrong with it.
     pub parse: fn(Option<&str>) -> Parsed,
+    /// What `clothbake report` measures of this unit (`None`: nothing; the tables the
+    /// report measures are the layouts', [`crate::table::Layout::ALL`]).
+    pub report: Option<ReportPlan>,
+}
+
+/// The spellings of one unit that `clothbake report` measures against the direct rule:
+/// on the CPU (error, cost) and rendered in the GPU section, in its quick and full runs.
+#[derive(Clone, Copy, Debug)]
+pub struct ReportPlan {
+    pub cpu_quick: &'static [&'static str],
+    pub cpu_full: &'static [&'static str],
+    pub gpu_quick: &'static [&'static str],
+    pub gpu_full: &'static [&'static str],
+    /// Whether every other point is compared with this unit's (paper mode: the paper's own
+    /// renderer, the baseline a table or another rule has to beat).
+    pub baseline: bool,
+    /// What the report's section on this unit says its setting is, in a sentence.
+    pub setting: &'static str,
+}
+
+impl ReportPlan {
+    /// The spellings measured on the CPU (`quick`: the quick run's).
+    pub fn cpu(&self, quick: bool) -> &'static [&'static str] {
+        if quick { self.cpu_quick } else { self.cpu_full }
+    }
+
+    /// The spellings rendered in the GPU section.
+    pub fn gpu(&self, quick: bool) -> &'static [&'static str] {
+        if quick { self.gpu_quick } else { self.gpu_full }
+    }
 }
 
 /// What parsing a spelling gives: the configured evaluator, or what is wrong with it.
@@ -112,6 +142,12 @@ pub trait FabricEvaluator: Send + Sync {
     }
     /// The importance sampler that fits this evaluation (a table's own, or the fabric's).
     fn sampler(&self) -> Sampler;
+    /// For a rule that places its tangent samples per pair, the mean and the largest
+    /// number of kernel evaluations per light (tangent samples of both threads) over
+    /// `pairs`; `None` where the count is fixed or there are none.
+    fn kernel_evaluations(&self, _pairs: &[(DVec3, DVec3)]) -> Option<(f64, usize)> {
+        None
+    }
     /// The environment light's sample taps for `samples` per pixel: `samples` strata of
     /// `sampler`'s density (this evaluation's, [`Self::sampler`]), each with this
     /// evaluation's ∫F over it.
@@ -254,6 +290,10 @@ impl FabricEvaluator for ModelEvaluation {
         Sampler::for_fabric(&self.fabric)
     }
 
+    fn kernel_evaluations(&self, pairs: &[(DVec3, DVec3)]) -> Option<(f64, usize)> {
+        self.patch.resonant_evaluations(pairs)
+    }
+
     #[cfg(feature = "runtime")]
     fn gpu(&self, context: &GpuContext) -> Result<Box<dyn GpuBrdf>, EvaluatorError> {
         self.gpu_form()?.build(context, &self.fabric)
@@ -350,6 +390,25 @@ mod tests {
         assert_eq!(step("paper:1000000", false), None);
         assert_eq!(step("resonant", true), None);
         assert_eq!(step("table", false), None);
+    }
+
+    #[test]
+    fn every_spelling_a_report_plan_names_parses_to_its_unit_and_one_unit_is_the_baseline() {
+        for unit in EVALUATORS {
+            let Some(plan) = unit.report else { continue };
+            for quick in [true, false] {
+                for spelling in plan.cpu(quick).iter().chain(plan.gpu(quick)) {
+                    assert_eq!(parse(spelling).unwrap().spelling(), *spelling);
+                    assert!(spelling.starts_with(unit.name), "{spelling}");
+                }
+                assert!(plan.gpu(quick).iter().all(|s| plan.cpu(quick).contains(s)));
+            }
+        }
+        let baselines = EVALUATORS
+            .iter()
+            .filter(|u| u.report.is_some_and(|p| p.baseline))
+            .count();
+        assert_eq!(baselines, 1);
     }
 
     #[test]

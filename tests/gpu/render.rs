@@ -20,8 +20,8 @@ use clothbake::evaluator::paper::gpu::GpuPaper;
 use clothbake::evaluator::resonant::gpu::GpuResonant;
 use clothbake::evaluator::table::gpu::GpuTable;
 use clothbake::evaluator::{EVALUATORS, EvaluationContext, EvaluatorError};
-use clothbake::formats::table_exr::write_table;
 use clothbake::formats::fabric_toml::FabricSet;
+use clothbake::formats::table_exr::write_table;
 use clothbake::gpu::{GpuBrdf, GpuContext};
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use clothbake::render::image::{LinearImage, image_error, read_linear_exr, write_linear_exr};
@@ -215,7 +215,8 @@ fn every_registered_gpu_form_renders_what_its_cpu_evaluation_shades() {
             let mut headless = Headless::new(&context, &mesh(), brdf.as_ref(), SIDE, SIDE).unwrap();
             let gpu = headless.render(&context, &settings, 1).unwrap().linear;
             let gbuffer = headless.gbuffer(&context, &settings).unwrap();
-            let cpu = reference::shade_with(&gbuffer, &settings, |wi, wo| evaluation.eval(wi, wo), None);
+            let cpu =
+                reference::shade_with(&gbuffer, &settings, |wi, wo| evaluation.eval(wi, wo), None);
             let error = image_error(&gpu, &cpu, settings.exposure).unwrap();
             println!(
                 "{name}: {} ({}) on {} against its CPU evaluation: relative L2 {:.2e}, {} pixels",

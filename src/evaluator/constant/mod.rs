@@ -21,6 +21,7 @@ pub const UNIT: EvaluatorUnit = EvaluatorUnit {
     syntax: "constant",
     summary: "F = 1/π above the horizon: a frame's cost floor, not a model",
     parse,
+    report: None,
 };
 
 fn parse(parameter: Option<&str>) -> Parsed {

@@ -7,7 +7,7 @@ pub mod gpu;
 
 use super::{
     EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, ModelEvaluation,
-    Parsed, parameter_error,
+    Parsed, ReportPlan, parameter_error,
 };
 use crate::model::curve::DEFAULT_PAPER_SAMPLES;
 use crate::model::{Fabric, Integration};
@@ -28,6 +28,35 @@ pub const UNIT: EvaluatorUnit = EvaluatorUnit {
     syntax: "paper[:N]",
     summary: "the paper's renderer: N stratified tangent samples per thread (default 32)",
     parse,
+    report: Some(ReportPlan {
+        cpu_quick: &[
+            "paper:1", "paper:2", "paper:4", "paper:8", "paper:16", "paper:32", "paper:64",
+        ],
+        // Up to 1024, where paper mode reaches the resonant quadrature's error (satin back
+        // needs it).
+        cpu_full: &[
+            "paper:1",
+            "paper:2",
+            "paper:4",
+            "paper:8",
+            "paper:16",
+            "paper:32",
+            "paper:64",
+            "paper:128",
+            "paper:256",
+            "paper:512",
+            "paper:1024",
+        ],
+        // Beyond N = 64 a frame on a software rasteriser takes seconds.
+        gpu_quick: &[
+            "paper:1", "paper:2", "paper:4", "paper:8", "paper:16", "paper:32", "paper:64",
+        ],
+        gpu_full: &[
+            "paper:1", "paper:2", "paper:4", "paper:8", "paper:16", "paper:32", "paper:64",
+        ],
+        baseline: true,
+        setting: "N stratified tangent samples per thread",
+    }),
 };
 
 fn parse(parameter: Option<&str>) -> Parsed {

@@ -10,7 +10,7 @@ pub mod kernel;
 
 use super::{
     EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, ModelEvaluation,
-    Parsed, parameter_error,
+    Parsed, ReportPlan, parameter_error,
 };
 use crate::model::{Fabric, Integration, ResonantNodes};
 use std::sync::Arc;
@@ -21,6 +21,23 @@ pub const UNIT: EvaluatorUnit = EvaluatorUnit {
     syntax: "resonant[:S/V/B]",
     summary: "the resonant quadrature: S/V/B nodes per segment (surface, volume, base)",
     parse,
+    report: Some(ReportPlan {
+        // A coarse, a middle and the default point.
+        cpu_quick: &["resonant:3/2/2", "resonant:5/3/2", "resonant:6/5/2"],
+        cpu_full: &[
+            "resonant:3/2/2",
+            "resonant:4/3/2",
+            "resonant:5/4/2",
+            "resonant:6/5/2",
+            "resonant:8/6/3",
+            "resonant:10/8/4",
+        ],
+        gpu_quick: &["resonant:6/5/2"],
+        gpu_full: &["resonant:3/2/2", "resonant:6/5/2"],
+        baseline: false,
+        setting: "Gauss–Legendre nodes per curve segment on the surface lobe, the volume lobe \
+                  and for ⟨P⟩ and the kd term (surface/volume/base)",
+    }),
 };
 
 fn parse(parameter: Option<&str>) -> Parsed {

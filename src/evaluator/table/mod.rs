@@ -26,6 +26,7 @@ pub const UNIT: EvaluatorUnit = EvaluatorUnit {
     syntax: "table[:PATH]",
     summary: "a baked table's lookup (default: TABLES/FABRIC.exr)",
     parse,
+    report: None,
 };
 
 fn parse(parameter: Option<&str>) -> Parsed {
