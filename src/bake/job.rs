@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Direction pairs per set used to choose a resolution for an error budget: enough for the
-/// relative RMS to be stable to about ±5% of its value (the estimate's spread between seeds,
-/// measured on the built-in fabrics), and cheap next to the bake.
+/// relative RMS to be stable between seeds on the built-in fabrics (the spread:
+/// docs/notebook/2026-12-07-figures-from-comments-issue-47.md), and cheap next to the bake.
 pub const BUDGET_VALIDATION_PAIRS: usize = 1000;
 
 /// How to choose each table's resolution.

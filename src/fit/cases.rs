@@ -1,9 +1,9 @@
 //! The measured fits of issue 46, built in one place for the example that prints their
 //! errors (`examples/fit_round_trips.rs`) and the benchmark that times them (`benches/fit.rs`):
-//! a built-in fabric moved by up to ±30% and fitted like the unmoved one (a round trip), or
-//! one of the paper's woven fabrics fitted from its weave and fibre alone; either from 2,000
-//! samples of the truth's F (1,600 uniform pairs, 400 on its highlight cones) with 3%
-//! multiplicative noise.
+//! a built-in fabric moved by up to [`CASE_MOVE`] and fitted like the unmoved one (a round
+//! trip), or one of the paper's woven fabrics fitted from its weave and fibre alone; either
+//! from [`CASE_SAMPLES`] samples of the truth's F (four fifths on uniform pairs, the rest on
+//! its highlight cones) with [`CASE_NOISE`] multiplicative noise.
 
 use super::parameters::{LikeFabric, Parametrisation, perturbed};
 use super::samples::{Samples, synthetic_samples};

@@ -29,8 +29,8 @@ pub enum ResidualScale {
     Relative { floor: f64 },
 }
 
-/// Residual scaling used unless told otherwise. With noise proportional to f (3%
-/// multiplicative, as a camera's shot noise and calibration give), per-sample relative
+/// Residual scaling used unless told otherwise. With noise proportional to f
+/// (multiplicative, as a camera's shot noise and calibration give), per-sample relative
 /// residuals weigh each sample by the inverse of its noise, the efficient estimator, and let
 /// the many dim samples of the volume term constrain A, kd and γv, which the few bright
 /// highlight samples otherwise outweigh; the better parameters then also give the lower
@@ -470,8 +470,8 @@ pub fn fit(
     let patience = options.max_evaluations.div_ceil(n + 1).max(1);
     // The objective is a sum of m squared residuals, each about the noise where the model
     // fits: a relative improvement below 1/m (a change of about 1 in χ²) is within the noise,
-    // and chasing it costs most of the evaluations (measured: the final stage of a satin fit
-    // spent 132 evaluations without changing the objective's first four digits at 1e-6).
+    // and chasing it costs most of the evaluations (a satin fit's final stage, in
+    // docs/notebook/2026-12-07-figures-from-comments-issue-47.md).
     let m = 3 * fit_samples.len();
     let solver = LevenbergMarquardt::new()
         .with_ftol((1.0 / m as f64).clamp(1e-8, 1e-3))

@@ -5,7 +5,7 @@
 //!
 //! A renderer lights cloth from a map with K directions per pixel drawn from the fabric's
 //! sampler, each read from the prefiltered map. When a few compact sources carry much of the
-//! light (a 0.5° sun of radiance 3.5·10⁴ over a sky near 1 carries 40% of it), those K
+//! light (a 0.5° sun of radiance 3.5·10⁴ over a sky near 1 carries much of it), those K
 //! directions rarely meet them, and the image is far off at any affordable K. A compact
 //! source is instead what a directional light already is: one table lookup gives it exactly,
 //! up to its size. So the map is split into `L = L_residual + Σ_sources L_source`, the
@@ -40,8 +40,9 @@ use std::f64::consts::PI;
 use super::{Environment, Level, equirect_direction};
 
 /// Texels brighter than this multiple of the map's mean luminance may belong to a source:
-/// high enough that a studio's soft boxes (peak 14× the mean) and a clear sky's aureole
-/// stay in the residual, low enough that a lamp at 100× the mean is found.
+/// high enough that the studio's soft boxes and a clear sky's aureole stay in the residual,
+/// low enough that the interior's lamps are found (the built-in maps' peaks over their
+/// means: docs/notebook/2026-12-07-figures-from-comments-issue-47.md).
 pub const THRESHOLD_OVER_MEAN: f64 = 16.0;
 
 /// The widest source taken as one directional light, in degrees of angular radius: a

@@ -215,8 +215,8 @@ impl Environment {
     ///
     /// Everything is smooth on the scale of a texel (the sharpest lobe is about 8.5° across,
     /// a texel 0.7°). Filtered importance sampling of cosine and Phong 10-50 lobes at lod
-    /// `0.5·log2(Ωs/Ωp)` comes within 4-6% relative RMS of the exact integral with 16
-    /// samples and within 0.7% with 256 (`tests/sampling/environment.rs`).
+    /// `0.5·log2(Ωs/Ωp)` converges to the exact integral as samples are added
+    /// (`tests/sampling/environment.rs`).
     pub fn studio() -> Self {
         GeneratedEnvironment::Studio.environment()
     }

@@ -13,8 +13,7 @@ pub const SUN_AZIMUTH_DEG: f64 = -40.0;
 /// The sun's angular radius: the real sun's 0.53° disc.
 pub const SUN_ANGULAR_RADIUS_DEG: f64 = 0.265;
 /// The sun's radiance relative to a sky near 1: what HDR photographs of a clear day hold
-/// (3·10⁴–4·10⁴ after exposure for the sky), which gives the sun about 40% of the
-/// horizontal irradiance here.
+/// (3·10⁴–4·10⁴ after exposure for the sky).
 pub const SUN_RADIANCE: f64 = 3.5e4;
 
 /// The unit direction towards the sky's sun.

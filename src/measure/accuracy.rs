@@ -24,7 +24,7 @@ pub struct SetError {
 
 /// A table's errors on uniform pairs, highlight pairs, and on the pairs of each set with
 /// both directions at least 1°, 3° (and, uniform, 15°) above the horizon. Pairs below 1°
-/// are about 3% of the uniform set but can carry most of a table's squared error, so the
+/// are few in the uniform set but can carry most of a table's squared error, so the
 /// bands show how much of it lies at the horizon.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct TableError {

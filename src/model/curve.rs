@@ -11,10 +11,10 @@ use super::fabric::{ModelOptions, TangentSampling, Thread};
 /// is the surface lobe: |dθh/dα| ≤ 1 (it is the mean of cos φi and cos φo), so a lobe of
 /// standard deviation σ in θh is at least σ wide in α, and σ/16 spacing resolves it to far
 /// below 1e-6. What remains are the O(h²) errors at the kinks of the reweighted min() terms
-/// (the kinks of max(cos, 0) are removed by clipping, see `ThreadModel::means`). Measured
-/// against an independent rule (tests/model/direct_convergence.rs), the largest relative
-/// difference on the built-in fabrics is 2.9e-5 at 0.1° and 7.5e-6 at 0.05° (this value),
-/// a 13× margin under the 1e-4 that docs/model.md#direct-evaluation asks for.
+/// (the kinks of max(cos, 0) are removed by clipping, see `ThreadModel::means`). Against
+/// an independent rule (tests/model/direct_convergence.rs) this spacing keeps the built-in
+/// fabrics well under the 1e-4 that docs/model.md#direct-evaluation asks for (the figures:
+/// docs/notebook/2026-12-07-figures-from-comments-issue-47.md).
 pub const DIRECT_MAX_SPACING_DEG: f64 = 0.05;
 /// Samples per standard deviation of the narrowest lobe in the direct rule.
 pub const DIRECT_SAMPLES_PER_SIGMA: f64 = 16.0;

@@ -26,8 +26,8 @@
 //!   where their two factors cross (see `kinks`); both node sets are split there, each
 //!   part getting its share of the nodes (at least [`MIN_NODES_PER_PART`]). Where a
 //!   direction is near the horizon the facing window is a sliver a few degrees wide, the
-//!   lobes are flat across it and the kinks decide the integral: unsplit, one such pair in
-//!   20,000 was 11% off and carried 99% of satin back's squared error.
+//!   lobes are flat across it and the kinks decide the integral: unsplit, one such pair
+//!   carried most of satin back's squared error.
 //! - A flat segment (all of its share at one α, e.g. satin's floats) is one node for every
 //!   term.
 
@@ -39,19 +39,16 @@ use std::f64::consts::{FRAC_1_SQRT_2, PI};
 /// integrated on the base nodes, their count raised to the lobe's: over so short a stretch
 /// the Gaussian is a smooth, low-order function of α, and one node set serves every term.
 /// Only lobes that are narrow against the segment get nodes of their own in t = Φ(z).
-/// Measured at 6/4/2 (4,000 + 4,000 pairs): with 0.5, linen needs 29–31 evaluations per
-/// light for 0.16%; with 4, 15 for 0.04%, and satin 30 instead of 37 for the same 0.1%;
-/// beyond 5 crepe and silk_shot lose accuracy (the surface lobe on too few nodes).
+/// Larger values save evaluations per light and lose nothing up to about 5; beyond that
+/// crepe and silk_shot lose accuracy (the surface lobe on too few nodes).
 pub const FLAT_LOBE_SPAN: f64 = 4.0;
 /// A lobe whose value within a segment is nowhere above `g` at this many standard
 /// deviations (e^−18 ≈ 1.5e-8 of its peak) contributes nothing measurable there.
 pub const NEGLIGIBLE_LOBE_Z: f64 = 6.0;
 
 /// Fewest nodes a part of a lobe's or the base's interval gets when kinks split it (or all
-/// of the count, if smaller). Measured at 6/4/2 on 20,000 pairs per set (with lobes on the
-/// base nodes only below 0.5 deviations): with 1, crepe's
-/// highlight error is 0.21% and silk_shot's 0.28%; with 2, at most 0.21% on any fabric for
-/// one to two more evaluations per light.
+/// of the count, if smaller). With one node, crepe's and silk_shot's
+/// highlight errors grow; two cost one to two more evaluations per light.
 pub const MIN_NODES_PER_PART: u32 = 2;
 
 /// How far above a whole number a part's share of nodes must be to get one more (see
@@ -65,10 +62,8 @@ pub const LOBE_Z_RANGE: f64 = 8.0;
 
 /// A segment holding less than this share of a lobe's Gaussian mass (the lobe's tail, or a
 /// sliver of it) gets half of the lobe's nodes, and one holding less than an eighth of it a
-/// quarter: its error weighs in proportion to its mass. Measured on the six fabrics at
-/// 7/5/3 (4,000 pairs per set, before the kink splits): 0.15 cuts satin's samples per light
-/// from 41.0 to 37.5 on highlight pairs and changes no fabric's relative RMS by more than
-/// 0.01%; 0.3 costs silk_shot 0.2% on uniform pairs.
+/// quarter: its error weighs in proportion to its mass. 0.15 cuts satin's samples per
+/// light without moving any fabric's error; 0.3 costs silk_shot accuracy.
 pub const TAIL_MASS: f64 = 0.15;
 
 /// Gauss–Legendre nodes and weights on [0, 1] (weights sum to 1).

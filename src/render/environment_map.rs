@@ -44,7 +44,7 @@ impl GpuEnvironment {
     /// Uploads every mip level of `environment` as `Rgb9e5Ufloat` (packed by `rgb9e5` below):
     /// filterable on every backend, unlike 32-bit float, and 4 bytes a texel against
     /// Rgba16Float's 8, which makes the environment light's fetches, most of its cost, cheaper
-    /// (docs/performance.md#environment-light-on-lavapipe).
+    /// (docs/notebook/2026-12-07-performance.md#environment-light-on-lavapipe).
     pub fn new(context: &GpuContext, environment: &Environment) -> Result<Self, GpuError> {
         let levels = environment.levels();
         let (width, height) = (levels[0].width(), levels[0].height());

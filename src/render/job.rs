@@ -235,7 +235,7 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             let gbuffer = renderer.gbuffer(&context, &settings)?;
             let start = Instant::now();
             // Under an environment light the reference evaluates F at hundreds of directions
-            // per pixel: the resonant quadrature (within 0.02–0.11% of the direct rule,
+            // per pixel: the resonant quadrature (its error against the direct rule is in
             // report/REPORT.md) keeps that to seconds.
             let (patch, evaluation) = match &environment {
                 None => (Patch::new(fabric, Integration::Direct), "direct evaluation"),

@@ -182,9 +182,9 @@ pub enum MeshKind {
     Obj,
 }
 
-/// Environment samples (sample taps) per pixel of the default scene: 1.8–2.8% from the CPU
-/// reference under the studio environment, at about what 16 samples drawn per pixel cost
-/// before the taps (docs/sampling.md#measured has the measured front).
+/// Environment samples (sample taps) per pixel of the default scene: about the fewest that
+/// keep every fabric within the environment light's goal, at about what 16 samples drawn per
+/// pixel cost before the taps (docs/notebook/2026-12-07-sampling.md#the-goal-and-its-margin).
 pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 96;
 /// Most environment samples per pixel: the fabric's sample taps take 16 bytes per sample and
 /// wo node (8,320 nodes), 33 MiB at 256, within the 128 MiB that wgpu's default limits allow

@@ -24,8 +24,8 @@
 //! 3. The fold u → |u| of thread_frame (u = (φi' + φo')/2, see its module doc): pairs with
 //!    u within f32 error of 0 (highlight pairs produce them) may be folded to the other side
 //!    on the GPU, reading the table at (|u|, −v) instead of (|u|, v). The model is symmetric
-//!    there, but the baked table need not be exactly (measured: up to ~4% on satin's
-//!    grazing texels at R = 16), so for |u| < 1e-5 the difference between the two
+//!    there, but the baked table need not be exactly (satin's grazing texels at low
+//!    resolutions differ most), so for |u| < 1e-5 the difference between the two
 //!    interpolations is added, propagated like the filtering error.
 //! 4. split_frame evaluates its point masses with the shared f32 sample kernel where the
 //!    CPU uses the f64 model. The GPU test of that kernel bounds its relative error by

@@ -69,7 +69,7 @@ impl PointSamples {
     /// length, directions above the horizon).
     ///
     /// Not inlined: a lookup's table arithmetic and this long kernel compiled as one body
-    /// ran 8–11% slower than as two.
+    /// ran slower than as two.
     #[inline(never)]
     pub fn sums<L: Lanes>(&self, wi: &[Vec3], wo: &[Vec3]) -> PointSums<L> {
         let zero = L::splat(0.0);

@@ -19,13 +19,9 @@
 //! the correction can only take a node below 0 next to a steep rise from 0 (a texel where
 //! the facing window closes, beside one where it is open).
 //!
-//! Measured with `clothbake check` (20,000 uniform / 20,000 highlight pairs, relative RMS),
-//! point samples against the fit, at split_frame 32: velvet 1.28 / 1.08% → 0.82 / 0.73%,
-//! linen 0.88 / 0.84% → 0.57 / 0.55%, satin 0.56 / 0.47% → 0.33 / 0.32%; at thread_frame
-//! 48 (with the odd v count of `AxisPlan::inner_texels`) velvet 0.96 / 1.01% → 0.62 / 0.65%,
-//! satin back 1.38 / 2.08% → 0.88 / 1.61%. In a harness with velvet's tables alone, the fit
-//! along βH only gave 0.96 / 0.90%, along every axis but θd' 0.82 / 0.76%, and the factor
-//! 0.06 or 0.11 instead of 1/12 0.82 / 0.72% or 0.90 / 0.84%.
+//! `clothbake check` measures what the fit gains against point samples; the figures, and
+//! the variants tried (the fit along fewer axes, other factors than 1/12), are in
+//! docs/notebook/2026-12-07-figures-from-comments-issue-47.md.
 
 /// Replaces the point samples `values` (channel-interleaved, `channels` per node, node axes
 /// `counts` fastest first; every axis clamped, none periodic) by the node values of their
@@ -104,8 +100,9 @@ mod tests {
             interpolation_error(&samples, f),
             interpolation_error(&fitted, f),
         );
-        // Measured: 1.80% sampled, 0.81% fitted (a pure parabola would gain 2.4×, a ridge
-        // this narrow less); a fit of the wrong sign or none at all gives ≥ 1.80%.
+        // The fit more than halves this ridge's interpolation error (a pure parabola would
+        // gain more, a ridge this narrow less); a fit of the wrong sign or none at all gains
+        // nothing (the figures: docs/notebook/2026-12-07-figures-from-comments-issue-47.md).
         assert!(after < 0.6 * before, "{before} -> {after}");
     }
 

@@ -1,5 +1,5 @@
 //! A yarn family's knobs (its shape in the cloth and its optics) and the tangent curve its
-//! floats make (docs/weave.md#tangent-curves-from-floats).
+//! floats make (docs/weave.md#from-a-draft-to-a-fabric).
 
 use super::fibre::{Fibre, UnknownFibre};
 

@@ -7,4 +7,6 @@ mod feature_split;
 mod file_size;
 mod import_cycles;
 mod links;
+mod manual_figures;
 mod model_purity;
+mod stated_defaults;

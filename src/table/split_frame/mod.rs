@@ -7,8 +7,8 @@
 //! offsets. In a table over (βH, θd', u, v) it makes a ridge as narrow as the surface lobe,
 //! and its masking factors M and P have kinks along the great circles w·n(α_k) = 0 (for a
 //! float at α_k = 0, the horizon itself) that cut through texels; a 4D table of the whole
-//! curve converges slowly near them (measured: 2–10% relative RMS at 4–5 MiB for the four
-//! fabrics with floats, most of it from such pairs). One tangent sample is cheap to evaluate
+//! curve converges slowly near them (for the four fabrics with floats, most of a 4 MiB
+//! table's error came from such pairs). One tangent sample is cheap to evaluate
 //! exactly, so the point masses are taken out of the table and evaluated at lookup: a thread
 //! that is a single point (the straight weft of crepe, both satins and shot silk) needs no
 //! table at all. What remains tabulated is the smooth convolution of the sloped segments.
@@ -47,7 +47,7 @@
 //! The texels below the horizon hold the continuation above, so a pair a fraction of a
 //! degree up interpolates between a texel inside and one continued outside as any other
 //! pair interpolates, and v = 0, where min(M(wi), M(wo)) kinks, is a texel line. Every
-//! built-in fabric is within 1% at 31, horizon included
+//! built-in fabric meets the default's goal, horizon included
 //! (docs/tables.md#the-horizon-inside-the-table).
 //!
 //! # GPU textures
@@ -75,11 +75,9 @@ use std::sync::Arc;
 
 mod lookup;
 
-/// The axes of the sloped tables (see the module doc). Measured on the six fabrics: βH
-/// needs fewer texels once the point masses' sharp ridges are gone (3 → 1.2 per σs lost
-/// nothing), and u more (doubling it from thread_frame's 0.29R took velvet from 2.7% to
-/// 1.9%). The edge zone at 1.5 times the density is what velvet's image error needed
-/// (docs/tables.md#what-was-tried).
+/// The axes of the sloped tables (see the module doc): βH needs fewer texels once the point
+/// masses' sharp ridges are gone, and u more; the edge zone's denser texels are what
+/// velvet's image error needed (docs/notebook/2026-12-07-tables.md#what-was-tried).
 pub const PLAN: AxisPlan = AxisPlan {
     beta_texels_per_sigma: 1.2,
     beta_focus: 0.7,
@@ -96,8 +94,8 @@ impl LayoutUnit for SplitFrame {
         "split_frame"
     }
 
-    /// Every built-in fabric's table within 4 MiB (velvet's, the largest, 3.6 MiB) and within
-    /// 1%; bake times in docs/performance.md.
+    /// The smallest resolution at which every built-in fabric meets the default's goal
+    /// (docs/tables.md#goals); sizes and bake times in report/REPORT.md.
     fn default_resolution(&self) -> u32 {
         31
     }
