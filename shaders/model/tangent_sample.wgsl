@@ -1,14 +1,14 @@
 // One tangent sample of one thread family in f32: `ThreadModel::pair_frame` and
 // `ThreadModel::sample` of src/model/patch.rs (and `fresnel_dielectric` of
-// src/model/lobes.rs), shared by the shaders that evaluate the model itself (gpu/paper.wgsl,
-// paper mode; model/resonant_quadrature.wgsl, the resonant quadrature; split_frame's point
+// src/model/lobes.rs), shared by the shaders that evaluate the model itself (evaluator/paper,
+// paper mode; evaluator/resonant_quadrature, the resonant quadrature; split_frame's point
 // masses), as both CPU rules share `ThreadModel::sample`. Those modules require it (the
 // composer, src/shader/mod.rs, writes it before them).
 //
 // Where the CPU's f64 formulas lose their accuracy in f32, mathematically identical forms
 // that keep it are used instead: cos²θd near θd → ±π/2 (both directions near ±t), 1 − Fr
 // near grazing Fresnel incidence, and φd, ψd, cos(φd/2) by half-angle forms instead of
-// acos and √((1 + cos)/2). tests/gpu/direct.rs and tests/gpu/resonant.rs bound the
+// acos and √((1 + cos)/2). tests/gpu/paper.rs and tests/gpu/resonant.rs bound the
 // difference to the CPU.
 
 // A direction pair in a thread's fixed axes {t0, b, z} with the α-independent parts of P

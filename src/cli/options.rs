@@ -105,21 +105,36 @@ impl NodeArgs {
     }
 }
 
+/// Why one of the value parsers below refuses a command-line value (clap names the option).
+#[derive(Debug, thiserror::Error)]
+pub enum ValueError {
+    #[error(transparent)]
+    Number(#[from] std::num::ParseIntError),
+    #[error("must be in 1..={0}")]
+    OutOfRange(u32),
+    #[error("unknown layout '{name}'; layouts: {known}")]
+    UnknownLayout { name: String, known: String },
+}
+
 /// A resonant node count, 1..=ResonantNodes::MAX.
-fn resonant_count(text: &str) -> Result<u32, String> {
-    let n: u32 = text.parse().map_err(|e| format!("{e}"))?;
+fn resonant_count(text: &str) -> Result<u32, ValueError> {
+    let n: u32 = text.parse()?;
     if (1..=ResonantNodes::MAX).contains(&n) {
         Ok(n)
     } else {
-        Err(format!("must be in 1..={}", ResonantNodes::MAX))
+        Err(ValueError::OutOfRange(ResonantNodes::MAX))
     }
 }
 
 /// A table layout by its registered name.
-pub fn parse_layout(name: &str) -> Result<Layout, String> {
-    Layout::from_name(name).ok_or_else(|| {
-        let names: Vec<&str> = Layout::ALL.iter().map(|l| l.name()).collect();
-        format!("unknown layout '{name}'; layouts: {}", names.join(", "))
+pub fn parse_layout(name: &str) -> Result<Layout, ValueError> {
+    Layout::from_name(name).ok_or_else(|| ValueError::UnknownLayout {
+        name: name.to_string(),
+        known: Layout::ALL
+            .iter()
+            .map(|l| l.name())
+            .collect::<Vec<_>>()
+            .join(", "),
     })
 }
 
@@ -207,7 +222,7 @@ mod runtime {
         }
     }
 
-    fn parse_environment(word: &str) -> Result<EnvironmentSource, String> {
-        word.parse().map_err(|e: EnvironmentError| e.to_string())
+    fn parse_environment(word: &str) -> Result<EnvironmentSource, EnvironmentError> {
+        word.parse()
     }
 }

@@ -24,7 +24,7 @@ use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 pub use crate::formats::json_lines::MAX_LINE_BYTES;
-use crate::formats::json_lines::unit_direction;
+use crate::formats::json_lines::{DirectionError, DirectionProblem, unit_direction};
 
 /// Largest sample file read: 64 MiB is about a million samples, far more than a fit needs.
 pub const MAX_SAMPLE_FILE_BYTES: u64 = 64 << 20;
@@ -112,15 +112,14 @@ fn field_of(message: &str) -> String {
     "(line)".into()
 }
 
-/// A direction read as every command reads one ([`unit_direction`]), and above the horizon;
-/// the message leaves the field to the caller, who names it.
-fn direction(v: [f64; 3], field: &str) -> Result<DVec3, String> {
-    let unit = unit_direction(v, field).map_err(|e| e.problem.to_string())?;
+/// A direction read as every command reads one ([`unit_direction`]), and above the horizon.
+fn direction(v: [f64; 3], field: &str) -> Result<DVec3, DirectionError> {
+    let unit = unit_direction(v, field)?;
     if unit.z <= 0.0 {
-        return Err(format!(
-            "{field} = [{}, {}, {}] is at or below the horizon (z ≤ 0): F is 0 there",
-            v[0], v[1], v[2]
-        ));
+        return Err(DirectionError {
+            field: field.to_string(),
+            problem: DirectionProblem::BelowHorizon,
+        });
     }
     Ok(unit)
 }
@@ -149,8 +148,12 @@ fn checked_sample(
     f: [f64; 3],
     weight: Option<f64>,
 ) -> Result<Sample, (String, String)> {
-    let wi = direction(wi, "wi").map_err(|m| ("wi".to_string(), m))?;
-    let wo = direction(wo, "wo").map_err(|m| ("wo".to_string(), m))?;
+    let refuse = |e: DirectionError, v: [f64; 3]| {
+        let [x, y, z] = v;
+        (e.field, format!("[{x}, {y}, {z}] {}", e.problem))
+    };
+    let wi = direction(wi, "wi").map_err(|e| refuse(e, wi))?;
+    let wo = direction(wo, "wo").map_err(|e| refuse(e, wo))?;
     for (c, &v) in f.iter().enumerate() {
         let fail = |m: String| ("f".to_string(), format!("component {c}: {m}"));
         if !v.is_finite() {

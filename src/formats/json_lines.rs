@@ -117,6 +117,9 @@ pub enum DirectionProblem {
     NonFinite,
     #[error("is the zero vector")]
     Zero,
+    /// Where F is 0 by definition: at or below the patch's horizon (a fit's samples).
+    #[error("is at or below the horizon (z ≤ 0): F is 0 there")]
+    BelowHorizon,
 }
 
 /// A refused direction, named by its field.

@@ -279,7 +279,7 @@ impl Fabric {
             }
         };
         let fabric_fail = at(None);
-        validate_name(&self.name).map_err(|m| fabric_fail("name", m))?;
+        validate_name(&self.name).map_err(|m| fabric_fail("name", m.to_string()))?;
         self.options.validate(&fabric_fail)?;
         self.thread1.validate(&at(Some(1)))?;
         self.thread2.validate(&at(Some(2)))?;
@@ -296,17 +296,25 @@ impl Fabric {
     }
 }
 
-fn validate_name(name: &str) -> Result<(), String> {
+/// What is wrong with a fabric's name (it names a file, `NAME.exr`, so it is kept to a
+/// portable file-name alphabet).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum NameProblem {
+    #[error("must be 1 to 64 characters, got {0}")]
+    Length(usize),
+    #[error("may hold only A-Z, a-z, 0-9, '_' and '-', found {0:?}")]
+    Character(char),
+}
+
+fn validate_name(name: &str) -> Result<(), NameProblem> {
     if name.is_empty() || name.len() > 64 {
-        return Err(format!("must be 1 to 64 characters, got {}", name.len()));
+        return Err(NameProblem::Length(name.len()));
     }
     if let Some(c) = name
         .chars()
         .find(|c| !(c.is_ascii_alphanumeric() || *c == '_' || *c == '-'))
     {
-        return Err(format!(
-            "may hold only A-Z, a-z, 0-9, '_' and '-', found {c:?}"
-        ));
+        return Err(NameProblem::Character(c));
     }
     Ok(())
 }

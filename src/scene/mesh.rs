@@ -220,7 +220,7 @@ impl Mesh {
         } else {
             face_normals(&positions, &indices)
         };
-        frames_from_uvs(&positions, &normals, &uvs, indices).map_err(fail)
+        frames_from_uvs(&positions, &normals, &uvs, indices).map_err(|e| fail(e.to_string()))
     }
 
     /// The centre and radius of a sphere holding every vertex.
@@ -364,6 +364,20 @@ fn face_normals(positions: &[DVec3], indices: &[u32]) -> Vec<DVec3> {
     normals
 }
 
+/// Why a mesh's vertices get no shading frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum FrameProblem {
+    #[error("every triangle is degenerate in position or in UV")]
+    AllDegenerate,
+    #[error("vertex {0}: no normal (zero or non-finite normal, or only degenerate triangles)")]
+    NoNormal(usize),
+    #[error(
+        "vertex {0}: its UVs give no u direction (every triangle around it is degenerate in \
+         UV, or u runs along the normal)"
+    )]
+    NoUDirection(usize),
+}
+
 /// Builds the vertices: normals normalised, tangents from the UVs.
 ///
 /// Per triangle with edges e1 = p1 − p0, e2 = p2 − p0 and UV edges (du1, dv1), (du2, dv2),
@@ -375,7 +389,7 @@ fn frames_from_uvs(
     normals: &[DVec3],
     uvs: &[DVec2],
     indices: Vec<u32>,
-) -> Result<Mesh, String> {
+) -> Result<Mesh, FrameProblem> {
     let mut tangents = vec![DVec3::ZERO; positions.len()];
     let mut used = 0usize;
     for tri in indices.chunks_exact(3) {
@@ -395,7 +409,7 @@ fn frames_from_uvs(
         used += 1;
     }
     if used == 0 {
-        return Err("every triangle is degenerate in position or in UV".into());
+        return Err(FrameProblem::AllDegenerate);
     }
     let mut vertices = Vec::with_capacity(positions.len());
     let referenced = {
@@ -409,15 +423,10 @@ fn frames_from_uvs(
         let n = normals[i].normalize_or_zero();
         let t = (tangents[i] - n * n.dot(tangents[i])).normalize_or_zero();
         if referenced[i] && n == DVec3::ZERO {
-            return Err(format!(
-                "vertex {i}: no normal (zero or non-finite normal, or only degenerate triangles)"
-            ));
+            return Err(FrameProblem::NoNormal(i));
         }
         if referenced[i] && t == DVec3::ZERO {
-            return Err(format!(
-                "vertex {i}: its UVs give no u direction (every triangle around it is \
-                 degenerate in UV, or u runs along the normal)"
-            ));
+            return Err(FrameProblem::NoUDirection(i));
         }
         vertices.push(Vertex {
             position: p.as_vec3().to_array(),

@@ -11,8 +11,9 @@ use super::surface::{Graphics, depth_view, os_message, surface_config};
 use super::timer::GpuTimer;
 use super::{ViewError, ViewSummary};
 use crate::evaluator::table::load_fabric_table;
-use crate::evaluator::{EvaluationContext, Evaluator};
+use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError};
 use crate::formats::table_exr::TableFile;
+use crate::gpu::GpuError;
 use crate::gpu::{GpuContext, GpuSampleTaps};
 use crate::lighting::SplitEnvironment;
 use crate::model::Fabric;
@@ -47,6 +48,22 @@ pub(super) struct Setup {
     pub frames: Option<u32>,
     /// The evaluators key V cycles through, the first shown at start.
     pub evaluators: Vec<Arc<dyn Evaluator>>,
+}
+
+/// Why the viewer could not show a fabric by an evaluator (the view stays as it was).
+#[derive(Debug, thiserror::Error)]
+pub(super) enum ShowError {
+    #[error("no window")]
+    NoWindow,
+    #[error(transparent)]
+    Evaluator(#[from] EvaluatorError),
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error("{spelling} unavailable: {source}")]
+    Unavailable {
+        spelling: String,
+        source: Box<ShowError>,
+    },
 }
 
 /// Runs the event loop until the window closes; `table` is the first fabric's.
@@ -224,20 +241,20 @@ impl App {
         index: usize,
         slot: usize,
         evaluator: Arc<dyn Evaluator>,
-    ) -> Result<(), String> {
+    ) -> Result<(), ShowError> {
         let context = EvaluationContext {
             tables: self.setup.tables.clone(),
         };
         let fabric = &self.setup.fabrics[index];
         let Some(g) = &mut self.graphics else {
-            return Err("no window".into());
+            return Err(ShowError::NoWindow);
         };
         let f = match &mut g.fabrics[index] {
             Some(f) => f,
             slot => {
                 let file =
-                    load_fabric_table(&self.setup.tables, fabric).map_err(|e| e.to_string())?;
-                slot.insert(FabricGpu::with_table(&g.gpu, file).map_err(|e| e.to_string())?)
+                    load_fabric_table(&self.setup.tables, fabric).map_err(EvaluatorError::from)?;
+                slot.insert(FabricGpu::with_table(&g.gpu, file)?)
             }
         };
         if let (true, Some(map)) = (self.environment_on, &g.environment) {
@@ -247,22 +264,22 @@ impl App {
                 let evaluation = &f.shown[0].evaluation;
                 let taps = evaluation
                     .sample_taps(&evaluation.sampler(), self.setup.scene.environment.samples);
-                f.taps = Some(GpuSampleTaps::new(&g.gpu, &taps).map_err(|e| e.to_string())?);
+                f.taps = Some(GpuSampleTaps::new(&g.gpu, &taps)?);
             }
             if let Some(taps) = &f.taps {
-                g.renderer
-                    .set_environment(&g.gpu, map, taps)
-                    .map_err(|e| e.to_string())?;
+                g.renderer.set_environment(&g.gpu, map, taps)?;
             }
         }
-        let unavailable =
-            |e: &dyn std::fmt::Display| format!("{} unavailable: {e}", evaluator.spelling());
+        let unavailable = |source| ShowError::Unavailable {
+            spelling: evaluator.spelling(),
+            source: Box::new(source),
+        };
         let i = f
             .entry(&g.gpu, evaluator.as_ref(), fabric, &context)
-            .map_err(|e| unavailable(&e))?;
+            .map_err(|e| unavailable(ShowError::Evaluator(e)))?;
         g.renderer
             .set_brdf(&g.gpu, f.shown[i].brdf.as_ref())
-            .map_err(|e| unavailable(&e))?;
+            .map_err(|e| unavailable(ShowError::Gpu(e)))?;
         let label = g.renderer.brdf_label().to_string();
         let changed = index != self.current
             || slot != self.evaluator
@@ -286,8 +303,8 @@ impl App {
 
     /// [`App::show`], reporting a failure on stderr (the view stays as it was).
     fn show_or_report(&mut self, index: usize, slot: usize, evaluator: Arc<dyn Evaluator>) {
-        if let Err(message) = self.show(index, slot, evaluator) {
-            eprintln!("clothbake view: {message}");
+        if let Err(error) = self.show(index, slot, evaluator) {
+            eprintln!("clothbake view: {error}");
         }
     }
 
@@ -496,8 +513,8 @@ impl ApplicationHandler for App {
                 self.graphics = Some(graphics);
                 // Asked for on the command line: failing to build it is an error.
                 let first = self.evaluators[0].clone();
-                if let Err(message) = self.show(self.current, 0, first) {
-                    self.fail(event_loop, ViewError::Render(message));
+                if let Err(error) = self.show(self.current, 0, first) {
+                    self.fail(event_loop, ViewError::Render(error.to_string()));
                     return;
                 }
                 if let Some(g) = &self.graphics {

@@ -12,9 +12,9 @@
 //!
 //! # The bound
 //! Per pair and channel, |GPU − CPU| ≤ R·|F| + A·max|F| (A = 1e-7, the f32 cancellation
-//! floor of w·n(α) as in tests/gpu/direct.rs), with R = BASE + REACH·δθh/σmin:
+//! floor of w·n(α) as in tests/gpu/paper.rs), with R = BASE + REACH·δθh/σmin:
 //! - The sample itself is model/tangent_sample.wgsl's f32 kernel (paper mode's too), whose
-//!   error tests/gpu/direct.rs bounds
+//!   error tests/gpu/paper.rs bounds
 //!   by 2e-5 + 6·δθh/σmin (δθh: the device's `atan2` error plus argument rounding).
 //! - On top, the node positions come from f32 θh, slope and Φ⁻¹. A node moved by δz (in
 //!   standard deviations) changes its term by ≈ |z|·δz relative, through the mismatch
@@ -49,12 +49,12 @@ use clothbake::gpu::{GpuBrdf, GpuContext, evaluate_pairs};
 use clothbake::model::{Fabric, Integration, Patch, ResonantNodes};
 use glam::{DVec3, Vec3};
 
-/// Relative error of the f32 sample kernel and `exp` (tests/gpu/direct.rs).
+/// Relative error of the f32 sample kernel and `exp` (tests/gpu/paper.rs).
 const BASE_RELATIVE: f64 = 2e-5;
 /// Standard deviations over which an error δθh/σ in θh shows up in F: the kernel's lobe
-/// evaluation at up to 6σ (tests/gpu/direct.rs) and the node placement's |z|·δz.
+/// evaluation at up to 6σ (tests/gpu/paper.rs) and the node placement's |z|·δz.
 const LOBE_REACH: f64 = 12.0;
-/// Worst-case `atan2` error of llvmpipe's f32 (measured by tests/gpu/direct.rs: 3.4e-6) with
+/// Worst-case `atan2` error of llvmpipe's f32 (measured by tests/gpu/paper.rs: 3.4e-6) with
 /// margin, plus 1 ulp of π/2 of argument rounding.
 const THETA_ERROR: f64 = 5e-6 + 1.2e-7;
 /// Absolute floor relative to the largest |F| of the set.
