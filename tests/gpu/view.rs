@@ -200,3 +200,47 @@ fn view_without_tables_or_display_fails_with_a_clear_message() {
     assert!(all.contains("cannot open a window"), "{all}");
     assert!(!all.contains("panicked"), "{all}");
 }
+
+#[test]
+fn view_shows_the_evaluators_it_is_given_and_refuses_one_without_a_gpu_form() {
+    let dir = temp_dir("evaluators");
+    let scene = bake_small_tables(&dir);
+    let view = |evaluators: &[&str]| {
+        let mut args = vec![
+            "-a",
+            "-s",
+            "-screen 0 1280x1024x24",
+            env!("CARGO_BIN_EXE_clothbake"),
+            "view",
+            "--scene",
+            path_str(&scene),
+            "--tables",
+            path_str(&dir),
+            "--frames",
+            "3",
+        ];
+        for spelling in evaluators {
+            args.extend(["--evaluator", spelling]);
+        }
+        let output = run(clothbake_command("xvfb-run", &args));
+        (output.status.success(), output_text(&output))
+    };
+    // The first of the list is shown at start, through its GPU form.
+    let (ok, all) = view(&["paper:8", "constant"]);
+    println!("{all}");
+    assert!(ok, "view failed: {all}");
+    assert!(all.contains("velvet, paper:8 (paper N=8)"), "{all}");
+    assert_eq!(frames_drawn(&all), Some(3), "{all}");
+    // The converged rule has no shader: refused with the evaluators that have one.
+    let (ok, all) = view(&["direct"]);
+    assert!(!ok, "view --evaluator direct succeeded: {all}");
+    assert!(all.contains("has no GPU form"), "{all}");
+    assert!(!all.contains("panicked"), "{all}");
+    // A spelling that does not parse is refused before any window opens.
+    let output = clothbake(&["view", "--evaluator", "nearest", "--frames", "1"]);
+    let all = output_text(&output);
+    assert!(
+        !output.status.success() && all.contains("unknown evaluator 'nearest'"),
+        "{all}"
+    );
+}
