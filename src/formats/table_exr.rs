@@ -465,7 +465,7 @@ mod tests {
     #[test]
     fn earlier_baker_revisions_read_back_and_count_as_stale() {
         let fabric = FabricSet::builtin().fabrics()[0].clone();
-        let current = Provenance::new(&fabric, Layout::THREAD_FRAME, 16);
+        let current = Provenance::new(&fabric, Layout::DEFAULT, 16);
         let text = toml::to_string(&current).unwrap();
         assert!(text.contains(&format!("baker_revision = {BAKER_REVISION}")));
 
@@ -479,6 +479,6 @@ mod tests {
         let read: Provenance = toml::from_str(&earlier_text).unwrap();
         assert_eq!(read.baker_revision, FIRST_REVISION);
         assert_eq!(read.content_hash(), read.hash);
-        assert_ne!(read.hash, expected_hash(&fabric, Layout::THREAD_FRAME, 16));
+        assert_ne!(read.hash, expected_hash(&fabric, Layout::DEFAULT, 16));
     }
 }

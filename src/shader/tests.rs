@@ -57,23 +57,23 @@ fn a_module_required_twice_is_written_once() {
     );
     let text = composer.compose(&["top", "right"]).unwrap();
     assert_eq!(text.matches("fn base()").count(), 1, "{text}");
-    // Files too: split_frame and a second module both require the tangent sample.
+    // Files too: a registered file requires a generated module, and two modules require the
+    // same file.
     let sampled = "// requires: model/tangent_sample\nfn sampled() {}\n";
-    let files = order(
-        &Composer::new().module("sampled", sampled),
-        &["table/split_frame", "sampled"],
-    );
+    let sampled_too = "// requires: model/tangent_sample\nfn sampled_too() {}\n";
+    let both = Composer::new()
+        .module("sampled", sampled)
+        .module("sampled_too", sampled_too);
+    let files = order(&both, &["table/lookup", "sampled", "sampled_too"]);
     let Err(ComposeError::Unknown { name, .. }) = files else {
-        panic!("the layout requires the generated table constants: {files:?}");
+        panic!("the lookup requires the generated table constants: {files:?}");
     };
     assert_eq!(name, TABLE_CONSTANTS);
-    let composer = Composer::new()
-        .module(TABLE_CONSTANTS, "")
-        .module("sampled", sampled);
-    let files = order(&composer, &["table/split_frame", "sampled"]).unwrap();
+    let composer = both.module(TABLE_CONSTANTS, "");
+    let files = order(&composer, &["table/lookup", "sampled", "sampled_too"]).unwrap();
     let count = |n: &str| files.iter().filter(|f| *f == n).count();
     assert_eq!(count("model/tangent_sample"), 1, "{files:?}");
-    assert_eq!(files.last().map(String::as_str), Some("sampled"));
+    assert_eq!(files.last().map(String::as_str), Some("sampled_too"));
 }
 
 #[test]

@@ -18,8 +18,7 @@ use crate::table::{Table, TextureData};
 /// A table on the GPU: its textures, bound in one bind group, and its specialised lookup.
 ///
 /// Bindings (group 0): 3 a linear clamp-to-edge sampler; the layout's textures at the
-/// bindings its [`crate::table::TableLookup::textures`] give (thread_frame: 4 and 5 the
-/// thread textures (3D), 6 the masking array texture; grid4d: 7 the grid array texture).
+/// bindings its [`crate::table::TableLookup::textures`] give.
 pub struct GpuTable {
     label: String,
     /// [`lookup_wgsl`] of the table.
