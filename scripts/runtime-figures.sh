@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# GPU cost of the lookup shader against the direct (paper-mode) shader and the resonant
+# GPU cost of the lookup shader against the paper-mode shader and the resonant
 # shader at 1024×1024, every built-in fabric (or those named in FABRICS, space separated),
 # on whatever adapter wgpu finds: the median ms per frame that `clothbake render` prints for
-# --shader constant (F = 1/π: the frame without BRDF work, the floor under every shader),
-# lookup, direct at N = 8 and 32, and resonant (default nodes 6/5/2), in one run. A shared
+# --evaluator constant (F = 1/π: the frame without BRDF work, the floor under every shader),
+# table (the lookup), paper:8, paper:32, and resonant (default nodes), in one run. A shared
 # machine's speed drifts over minutes, so the five renders of a fabric alternate, ROUNDS
 # times (default 3), and each figure is the median of its rounds' medians of FRAMES frames
 # (default 5). Ratios: whole frames, and BRDF work alone (frame − floor). The scene's lights
@@ -35,18 +35,18 @@ if [[ -n $alt ]]; then
     alt_header=" lookup ($alt) ms | BRDF work: N = 32 / lookup ($alt) | BRDF work: resonant / lookup ($alt) |"
     alt_rule="---:|---:|---:|"
 fi
-echo "| fabric | floor ms | lookup ms | direct N = 8 ms | direct N = 32 ms | resonant ms | N = 8 / lookup | N = 32 / lookup | resonant / lookup | BRDF work: N = 32 / lookup | BRDF work: resonant / lookup |$alt_header"
+echo "| fabric | floor ms | lookup ms | paper N = 8 ms | paper N = 32 ms | resonant ms | N = 8 / lookup | N = 32 / lookup | resonant / lookup | BRDF work: N = 32 / lookup | BRDF work: resonant / lookup |$alt_header"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|$alt_rule"
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 
 for fabric in $fabrics; do
     declare -A ms=()
     for ((round = 0; round < rounds; round++)); do
-        ms[floor]+="$(median_ms --fabric "$fabric" --shader constant) "
+        ms[floor]+="$(median_ms --fabric "$fabric" --evaluator constant) "
         ms[lookup]+="$(median_ms --fabric "$fabric") "
-        ms[n8]+="$(median_ms --fabric "$fabric" --shader direct --samples 8) "
-        ms[n32]+="$(median_ms --fabric "$fabric" --shader direct --samples 32) "
-        ms[resonant]+="$(median_ms --fabric "$fabric" --shader resonant) "
+        ms[n8]+="$(median_ms --fabric "$fabric" --evaluator paper:8) "
+        ms[n32]+="$(median_ms --fabric "$fabric" --evaluator paper:32) "
+        ms[resonant]+="$(median_ms --fabric "$fabric" --evaluator resonant) "
         if [[ -n $alt ]]; then
             ms[alt]+="$(median_ms --fabric "$fabric" --tables "$alt") "
         fi
