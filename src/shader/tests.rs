@@ -198,6 +198,46 @@ fn every_file_is_registered_once_and_requires_known_modules() {
     }
 }
 
+#[test]
+fn every_unit_file_under_src_is_a_shader_file_constant_beside_it() {
+    // A unit's own WGSL (an evaluator's, in its folder) reaches the composer only as a
+    // `ShaderFile` constant of a Rust file in the same folder, which includes it and names
+    // its path; a file no constant includes would never be composed or validated.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut stack = vec![root.join("src")];
+    let mut found = 0;
+    while let Some(dir) = stack.pop() {
+        let entries: Vec<_> = std::fs::read_dir(&dir)
+            .expect("src/")
+            .map(|e| e.expect("entry").path())
+            .collect();
+        let rust: String = entries
+            .iter()
+            .filter(|p| p.extension().is_some_and(|e| e == "rs"))
+            .map(|p| std::fs::read_to_string(p).expect("a Rust file"))
+            .collect();
+        for path in entries {
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "wgsl") {
+                let name = path.file_name().unwrap().to_string_lossy().to_string();
+                let relative = path
+                    .strip_prefix(root)
+                    .unwrap()
+                    .to_string_lossy()
+                    .replace('\\', "/");
+                assert!(
+                    rust.contains(&format!("include_str!(\"{name}\")"))
+                        && rust.contains(&format!("path: \"{relative}\"")),
+                    "{relative}: no ShaderFile constant beside it includes it and names its path"
+                );
+                found += 1;
+            }
+        }
+    }
+    assert!(found > 0, "no unit files under src/");
+}
+
 /// Parses and validates `source` with naga, as wgpu does before a pipeline.
 fn validate(what: &str, source: &str) -> naga::Module {
     assert!(
