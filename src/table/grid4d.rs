@@ -17,6 +17,7 @@
 //! reflection, transmission1, transmission2, 0. (Plus one unused layer when N² is a
 //! multiple of 6: wgpu's GL backend would otherwise make the texture a cube map array.)
 
+use super::bindings::ARRAY_SLOTS;
 use super::gpu_bound::{COORDINATE_ERROR, FILTER_WEIGHT_STEP, GpuErrorBound, floor, range};
 use super::{
     LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, octahedral, quadrilinear_corners,
@@ -199,8 +200,8 @@ pub fn texture(plane: &Plane, n: usize) -> TextureData {
     }
     TextureData {
         name: "grid4d".into(),
-        binding: 7,
-        three_d: false,
+        binding: ARRAY_SLOTS[1].binding,
+        three_d: ARRAY_SLOTS[1].three_d(),
         size: [n as u32, n as u32, layers as u32],
         channels: 4,
         texels,

@@ -18,6 +18,7 @@
 //! - [`grid4d`]: the baseline, octahedral(wi) × octahedral(wo).
 
 pub mod axis;
+pub mod bindings;
 pub mod fast_math;
 pub mod gpu_bound;
 pub mod grid4d;
@@ -115,9 +116,9 @@ pub trait TableLookup: Send + Sync + fmt::Debug + Any {
     fn as_any(&self) -> &dyn Any;
 }
 
-/// A texture's contents before upload: its binding in group 0 (as the layout's WGSL file
-/// declares it), dimension, size in texels (width, height, depth or layers) and f16 texels,
-/// channel-interleaved, x fastest, then y, then z.
+/// A texture's contents before upload: its binding (one of [`bindings::TEXTURE_SLOTS`], as
+/// the layout's WGSL file declares it), dimension (the slot's), size in texels (width, height,
+/// depth or layers) and f16 texels, channel-interleaved, x fastest, then y, then z.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TextureData {
     pub name: String,
