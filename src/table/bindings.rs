@@ -5,6 +5,8 @@
 //! table (the GPU table upload, an engine's material) builds its bind group layout from it.
 //! All are in the BRDF's group (`CLOTH_BRDF_GROUP`, see [`crate::shader`]).
 
+use super::TextureData;
+
 /// How a texture slot is viewed by the shader.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SlotDimension {
@@ -57,6 +59,19 @@ pub const TEXTURE_SLOTS: [TextureSlot; 4] = [
     ARRAY_SLOTS[0],
     ARRAY_SLOTS[1],
 ];
+
+/// One zero texel in `slot`, for a texture that a layout's WGSL declares and a table does
+/// not fill (the lookup never reads it).
+pub fn stand_in_texture(slot: TextureSlot) -> TextureData {
+    TextureData {
+        name: format!("unused{}", slot.binding),
+        binding: slot.binding,
+        three_d: slot.three_d(),
+        size: [1, 1, 1],
+        channels: 1,
+        texels: vec![half::f16::ZERO],
+    }
+}
 
 /// The slot at `binding`, if one is declared.
 pub fn slot(binding: u32) -> Option<TextureSlot> {
