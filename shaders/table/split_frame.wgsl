@@ -6,11 +6,84 @@
 // requires: table/lookup, table/thread_geometry, model/tangent_sample,
 // requires: table_constants
 //
-// The generated `table_constants` declare the textures of the threads that have sloped
-// segments and define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap) and
-// `cloth_split_thread1(wi, wo)`, `cloth_split_thread2(wi, wo)` -> vec3<f32>: the thread's
-// curve sums (reflection, transmission, ⟨P⟩), the point masses by `cloth_sample_terms` and
-// the sloped part by its table.
+// The generated `table_constants` define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap) and per
+// thread J (`Geometry::thread_wgsl`): its point masses `CLOTH_SPLIT_POINT_COUNTJ` (u32) and
+// `CLOTH_SPLIT_POINTSJ` (array of (cos α_k, sin α_k, w_k), one unused entry where there are
+// none), `CLOTH_SPLIT_MATERIALJ` (ClothSampleMaterial), its axes `CLOTH_SPLIT_T0_J`,
+// `CLOTH_SPLIT_BJ`, and its sloped part: `CLOTH_SPLIT_SLOPEDJ` (bool), its share
+// `CLOTH_SPLIT_SLOPED_SHAREJ` (w_c) and its table `CLOTH_SPLIT_SLOPESJ` (ClothThreadTable).
+// Branches on these constants are folded by the shader compiler.
+
+// The sloped tables of threads 1 and 2 (a one-texel stand-in for a thread without one) and
+// their ⟨P⟩, one layer per tabulated thread (a stand-in where there is none).
+@group(CLOTH_BRDF_GROUP) @binding(4) var cloth_split_table1: texture_3d<f32>;
+@group(CLOTH_BRDF_GROUP) @binding(5) var cloth_split_table2: texture_3d<f32>;
+@group(CLOTH_BRDF_GROUP) @binding(6) var cloth_split_masking: texture_2d_array<f32>;
+
+// What a thread without sloped segments has for a table: never read.
+const CLOTH_SPLIT_NO_AXIS = ClothAxis(0u, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+const CLOTH_SPLIT_NO_TABLE = ClothThreadTable(
+    false,
+    array<ClothAxis, 4>(CLOTH_SPLIT_NO_AXIS, CLOTH_SPLIT_NO_AXIS, CLOTH_SPLIT_NO_AXIS, CLOTH_SPLIT_NO_AXIS),
+    vec4<f32>(0.0),
+    CLOTH_SPLIT_NO_AXIS,
+    0.0,
+    0i,
+);
+
+// One point mass `point` = (cos α_k, sin α_k, w_k) of a thread as its sums add it
+// (`ThreadModel::point_sums`): w_k·(R_k, T_k, P_k).
+fn cloth_split_point(pair: ClothSamplePair, material: ClothSampleMaterial, point: vec3<f32>) -> vec3<f32> {
+    let s = cloth_sample_terms(pair, material, point.x, point.y);
+    return point.z * vec3<f32>(s.y, s.z + s.w, s.x);
+}
+
+// The sloped part of a thread's sums from its table's sample `c` (reflection, transmission,
+// ⟨P⟩_c, cos²θd') and share `share` = w_c: reflection divided by cos²θd', as in thread_frame.
+fn cloth_split_sloped(c: vec4<f32>, share: f32) -> vec3<f32> {
+    let p = share * c.z;
+    return vec3<f32>(c.x * p / max(c.w, 1e-8), c.y * p, p);
+}
+
+// `Geometry::thread_sums` of thread 1: (reflection, transmission, ⟨P⟩) of its curve.
+fn cloth_split_thread1(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    var sums = vec3<f32>(0.0);
+    if CLOTH_SPLIT_POINT_COUNT1 > 0u {
+        let material = CLOTH_SPLIT_MATERIAL1;
+        let pair = cloth_sample_pair(wi, wo, CLOTH_SPLIT_T0_1, CLOTH_SPLIT_B1, material.k_u);
+        if pair.par_i > material.threshold && pair.par_o > material.threshold {
+            var points = CLOTH_SPLIT_POINTS1;
+            for (var k = 0u; k < CLOTH_SPLIT_POINT_COUNT1; k++) {
+                sums += cloth_split_point(pair, material, points[k]);
+            }
+        }
+    }
+    if CLOTH_SPLIT_SLOPED1 {
+        let c = cloth_thread_sample(cloth_split_table1, cloth_split_masking, CLOTH_SPLIT_SLOPES1, wi, wo);
+        sums += cloth_split_sloped(c, CLOTH_SPLIT_SLOPED_SHARE1);
+    }
+    return sums;
+}
+
+// `Geometry::thread_sums` of thread 2, as of thread 1.
+fn cloth_split_thread2(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    var sums = vec3<f32>(0.0);
+    if CLOTH_SPLIT_POINT_COUNT2 > 0u {
+        let material = CLOTH_SPLIT_MATERIAL2;
+        let pair = cloth_sample_pair(wi, wo, CLOTH_SPLIT_T0_2, CLOTH_SPLIT_B2, material.k_u);
+        if pair.par_i > material.threshold && pair.par_o > material.threshold {
+            var points = CLOTH_SPLIT_POINTS2;
+            for (var k = 0u; k < CLOTH_SPLIT_POINT_COUNT2; k++) {
+                sums += cloth_split_point(pair, material, points[k]);
+            }
+        }
+    }
+    if CLOTH_SPLIT_SLOPED2 {
+        let c = cloth_thread_sample(cloth_split_table2, cloth_split_masking, CLOTH_SPLIT_SLOPES2, wi, wo);
+        sums += cloth_split_sloped(c, CLOTH_SPLIT_SLOPED_SHARE2);
+    }
+    return sums;
+}
 
 // `Geometry::terms`: (reflection, transmission1, transmission2), divided by Q.
 fn cloth_split_frame_terms(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {

@@ -2,9 +2,9 @@
 // src/table/thread/ (`ThreadGeometry::coordinates`, `ThreadGeometry::sample`), after
 // shaders/table/lookup.wgsl (its sampler). Axes and warps: src/table/axis.rs (`Warp::unit`,
 // `Axis::locate`). Required by the layouts that store threads this way (thread_frame.wgsl,
-// split_frame.wgsl); their generated `table_constants` define `cloth_threadJ` functions
-// calling `cloth_thread_coordinates`, the warp functions below with literal parameters, and
-// `cloth_sample_thread`.
+// split_frame.wgsl); their generated `table_constants` describe each thread's table by a
+// `ClothThreadTable` constant (`ThreadGeometry::wgsl_constant`), which they pass to
+// `cloth_thread_sample`.
 //
 // requires: table/lookup
 
@@ -103,4 +103,73 @@ fn cloth_sample_thread(
     let mp = (gm + 0.5) / nm;
     let masking = max(textureSampleLevel(masking_table, cloth_sampler, mp, layer, 0.0).x, 0.0);
     return vec4<f32>(stored, masking, cos2_d);
+}
+
+// One axis of a thread's table (`AxisF32::wgsl_axis`): its warp, `kind` 0 `Warp::Linear`,
+// 1 `Warp::Knots`, 2 `Warp::SinEnds`, with the constants of the warp functions above: (lo,
+// scale) in `p.xy` for Linear, (c, scale) for SinEnds; `vs` in `p`, `gs`, `slopes` for
+// Knots; `last` = N − 1.
+struct ClothAxis {
+    kind: u32,
+    p: vec3<f32>,
+    gs: vec3<f32>,
+    slopes: vec3<f32>,
+    last: f32,
+}
+
+// The continuous texel coordinate of `v` on `axis`. The axes are constants of the generated
+// `table_constants`, so the shader compiler keeps only the branch of each axis's warp.
+fn cloth_axis_texel(v: f32, axis: ClothAxis) -> f32 {
+    switch axis.kind {
+        case 0u: {
+            return cloth_linear_texel(v, axis.p.x, axis.p.y, axis.last);
+        }
+        case 1u: {
+            return cloth_knots_texel(v, axis.p, axis.gs, axis.slopes, axis.last);
+        }
+        default: {
+            return cloth_sin_ends_texel(v, axis.p.x, axis.p.y, axis.last);
+        }
+    }
+}
+
+// A thread's table (`ThreadGeometry::wgsl_constant`): whether its base tangent t0 is y
+// (thread 2, whose pairs are swizzled so that x runs along t0; else t0 is x), its 4D axes
+// (βH, θd', u, v) and their texel counts `n`, its ⟨P⟩ axis and texels per axis `nm`, and the
+// layer of the masking array texture that holds its ⟨P⟩.
+struct ClothThreadTable {
+    along_y: bool,
+    axes: array<ClothAxis, 4>,
+    n: vec4<f32>,
+    masking: ClothAxis,
+    nm: f32,
+    layer: i32,
+}
+
+// `ThreadGeometry::sample`: (reflection, transmission, ⟨P⟩, cos²θd') of the thread described
+// by `thread`, whose 4D table is the 3D texture `table` and whose ⟨P⟩ is a layer of
+// `masking_table`.
+fn cloth_thread_sample(
+    table: texture_3d<f32>,
+    masking_table: texture_2d_array<f32>,
+    thread: ClothThreadTable,
+    wi: vec3<f32>,
+    wo: vec3<f32>,
+) -> vec4<f32> {
+    let c = cloth_thread_coordinates(
+        select(wi, wi.yxz, thread.along_y),
+        select(wo, wo.yxz, thread.along_y),
+    );
+    // Continuous texel coordinates of the 4D table (`Axis::locate`).
+    let g = vec4<f32>(
+        cloth_axis_texel(c.beta_h, thread.axes[0]),
+        cloth_axis_texel(c.theta_d, thread.axes[1]),
+        cloth_axis_texel(c.u, thread.axes[2]),
+        cloth_axis_texel(c.v, thread.axes[3]),
+    );
+    let gm = vec2<f32>(
+        cloth_axis_texel(c.beta_i, thread.masking),
+        cloth_axis_texel(c.beta_o, thread.masking),
+    );
+    return cloth_sample_thread(table, masking_table, thread.layer, g, thread.n, gm, thread.nm, c.cos2_d);
 }

@@ -185,41 +185,44 @@ impl AxisF32 {
             .split_floor(self.last_pair as i32)
     }
 
-    /// The WGSL call computing the continuous texel coordinate of `value` on this axis (the
-    /// warp functions of `shaders/table/thread_geometry.wgsl` with the folded constants), and a
-    /// comment describing the axis.
-    pub fn wgsl_texel(axis: &Axis, value: &str) -> (String, String) {
+    /// The WGSL value of `axis` as `cloth_axis_texel` of `shaders/table/thread_geometry.wgsl`
+    /// takes it (a `ClothAxis`: its warp's kind and folded constants, N − 1), and a comment
+    /// describing the axis.
+    pub fn wgsl_axis(axis: &Axis) -> (String, String) {
         use super::wgsl::{wgsl_f32, wgsl_vec};
         let folded = Self::new(axis);
-        let last = wgsl_f32(folded.last);
-        match (axis.warp, folded.warp) {
+        let zero = || wgsl_vec(&[0.0f32; 3]);
+        let (kind, p, gs, slopes, about) = match (axis.warp, folded.warp) {
             (Warp::Linear { lo, hi }, WarpF32::Linear { scale, .. }) => (
-                format!(
-                    "cloth_linear_texel({value}, {}, {}, {last})",
-                    wgsl_f32(lo),
-                    wgsl_f32(scale)
-                ),
+                0,
+                wgsl_vec(&[lo as f32, scale, 0.0]),
+                zero(),
+                zero(),
                 format!("Linear [{lo:.6}, {hi:.6}], {} texels", axis.texels),
             ),
             (Warp::Knots { xs, vs }, WarpF32::Knots { gs, slopes, .. }) => (
-                format!(
-                    "cloth_knots_texel({value}, {}, {}, {}, {last})",
-                    wgsl_vec(&vs[..3]),
-                    wgsl_vec(&gs),
-                    wgsl_vec(&slopes)
-                ),
+                1,
+                wgsl_vec(&vs[..3]),
+                wgsl_vec(&gs),
+                wgsl_vec(&slopes),
                 format!("Knots xs {:.6?}, vs {:.6?}, {} texels", xs, vs, axis.texels),
             ),
             (Warp::SinEnds { hi, k }, WarpF32::SinEnds { c, scale }) => (
-                format!(
-                    "cloth_sin_ends_texel({value}, {}, {}, {last})",
-                    wgsl_f32(c),
-                    wgsl_f32(scale)
-                ),
+                2,
+                wgsl_vec(&[c, scale, 0.0]),
+                zero(),
+                zero(),
                 format!("SinEnds hi {hi:.6}, k {k}, {} texels", axis.texels),
             ),
             _ => unreachable!("the f32 warp follows the warp"),
-        }
+        };
+        (
+            format!(
+                "ClothAxis({kind}u, {p}, {gs}, {slopes}, {})",
+                wgsl_f32(folded.last)
+            ),
+            about,
+        )
     }
 }
 

@@ -17,6 +17,7 @@
 //! reflection, transmission1, transmission2, 0. (Plus one unused layer when N² is a
 //! multiple of 6: wgpu's GL backend would otherwise make the texture a cube map array.)
 
+use super::bindings::ARRAY_SLOTS;
 use super::gpu_bound::{COORDINATE_ERROR, FILTER_WEIGHT_STEP, GpuErrorBound, floor, range};
 use super::{
     LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, octahedral, quadrilinear_corners,
@@ -164,6 +165,12 @@ impl TableLookup for Grid4dLookup {
         }
     }
 
+    /// Never: the texels hold the terms already divided by Q, and the lookup divides by
+    /// nothing.
+    fn f32_exempt(&self, _planes: &[Plane], _wi: DVec3, _wo: DVec3) -> bool {
+        false
+    }
+
     fn as_any(&self) -> &dyn Any {
         self
     }
@@ -199,8 +206,8 @@ pub fn texture(plane: &Plane, n: usize) -> TextureData {
     }
     TextureData {
         name: "grid4d".into(),
-        binding: 7,
-        three_d: false,
+        binding: ARRAY_SLOTS[1].binding,
+        three_d: ARRAY_SLOTS[1].three_d(),
         size: [n as u32, n as u32, layers as u32],
         channels: 4,
         texels,
@@ -280,6 +287,45 @@ pub fn lookup_terms(plane: &Plane, resolution: u32, wi: DVec3, wo: DVec3) -> [f6
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::table::Layout;
+
+    fn builtin(name: &str) -> Fabric {
+        let set = crate::formats::fabric_toml::FabricSet::builtin();
+        set.get(name).expect("built-in fabric").clone()
+    }
+
+    #[test]
+    fn grid4d_lookup_reproduces_texels_at_centres_and_interpolates_between() {
+        let table = crate::bake::bake(&builtin("silk_shot"), Layout::GRID4D, 6, &|| {}).unwrap();
+        let plane = &table.planes()[0];
+        for y in 0..plane.spec.height {
+            for x in 0..plane.spec.width {
+                let (wi, wo) = texel_directions(6, x, y);
+                let got = table.lookup_terms(wi, wo);
+                let stored = plane.texel(x, y);
+                for c in 0..3 {
+                    // Centres map back to themselves up to the octahedral round trip (1e-15).
+                    assert!(
+                        (got[c] - stored[c] as f64).abs() <= 1e-9 * (stored[c] as f64).max(1e-6),
+                        "({x},{y}) {got:?} {stored:?}"
+                    );
+                }
+            }
+        }
+        // Halfway between two wo texel centres along one axis, the lookup is their mean.
+        let (wi, wo_a) = texel_directions(6, 2 * 6 + 1, 3 * 6 + 4);
+        let (_, wo_b) = texel_directions(6, 2 * 6 + 2, 3 * 6 + 4);
+        let uv = (octahedral::encode(wo_a) + octahedral::encode(wo_b)) * 0.5;
+        let mid = table.lookup_terms(wi, octahedral::decode(uv));
+        let (a, b) = (plane.texel(13, 22), plane.texel(14, 22));
+        for c in 0..3 {
+            let expected = 0.5 * (a[c] as f64 + b[c] as f64);
+            assert!(
+                (mid[c] - expected).abs() <= 1e-9 * expected.max(1e-6),
+                "{mid:?} vs {a:?} {b:?}"
+            );
+        }
+    }
 
     #[test]
     fn grid4d_texture_puts_wi_in_layers() {

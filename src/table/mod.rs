@@ -18,6 +18,7 @@
 //! - [`grid4d`]: the baseline, octahedral(wi) × octahedral(wo).
 
 pub mod axis;
+pub mod bindings;
 pub mod fast_math;
 pub mod gpu_bound;
 pub mod grid4d;
@@ -112,12 +113,20 @@ pub trait TableLookup: Send + Sync + fmt::Debug + Any {
         wo: DVec3,
         cpu: DVec3,
     ) -> gpu_bound::GpuErrorBound;
+    /// Whether [`Self::terms_f32`] cannot follow [`Self::terms`] at `wi`, `wo` (above the
+    /// horizon) because the lookup divides there by a quantity that f32 cannot resolve: a
+    /// normalisation Q positive but below 1e-6 (F a 0/0 limit that f32 weights round to the
+    /// model's value for Q = 0), or a tabulated reflection divided by a cos²θd' below its
+    /// 1e-8 floor (rounding of the stored value amplified 1e8 times). At such pairs the f32
+    /// lookup is held only to finite, non-negative values; the test of every registered
+    /// layout holds it to the f64 lookup everywhere else. Every layout declares its own.
+    fn f32_exempt(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> bool;
     fn as_any(&self) -> &dyn Any;
 }
 
-/// A texture's contents before upload: its binding in group 0 (as the layout's WGSL file
-/// declares it), dimension, size in texels (width, height, depth or layers) and f16 texels,
-/// channel-interleaved, x fastest, then y, then z.
+/// A texture's contents before upload: its binding (one of [`bindings::TEXTURE_SLOTS`], as
+/// the layout's WGSL file declares it), dimension (the slot's), size in texels (width, height,
+/// depth or layers) and f16 texels, channel-interleaved, x fastest, then y, then z.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TextureData {
     pub name: String,
@@ -414,6 +423,12 @@ impl Table {
         }
         self.lookup
             .gpu_error_bound(&self.planes, self.albedo, wi, wo, cpu)
+    }
+
+    /// Whether the f32 lookup is exempt from following the f64 lookup at a pair
+    /// ([`TableLookup::f32_exempt`]; never below the horizon, where both are 0).
+    pub fn f32_exempt(&self, wi: DVec3, wo: DVec3) -> bool {
+        wi.z > 0.0 && wo.z > 0.0 && self.lookup.f32_exempt(&self.planes, wi, wo)
     }
 
     /// Bytes of texel data as stored (f16 channels).

@@ -69,7 +69,7 @@ use super::fast_math::Lanes;
 use super::gpu_bound::{self, GpuErrorBound};
 use super::thread::{
     AxisPlan, LocatedPairs, MASKING_TEXELS, MIN_BETA_TEXELS, ThreadGeometry, bake_masking,
-    bake_thread_plane, masking_texture, stored_ratios, thread_errors, thread_texture,
+    bake_thread_plane, f32_exempt, masking_texture, stored_ratios, thread_errors, thread_texture,
 };
 use super::wgsl::coverage_wgsl;
 use super::{BATCH_LANES, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
@@ -319,13 +319,8 @@ impl TableLookup for Geometry {
             "thread_frame has at least 2 u texels"
         );
         let mut out = coverage_wgsl(self.coverage, self.gap);
-        for j in 0..2 {
-            out += &self.threads[j].wgsl_function(
-                &format!("cloth_thread{}", j + 1),
-                &format!("cloth_thread{}_table", j + 1),
-                "cloth_masking_table",
-                j,
-            );
+        for (j, thread) in self.threads.iter().enumerate() {
+            out += &thread.wgsl_constant(&format!("CLOTH_THREAD{}", j + 1), j);
         }
         out
     }
@@ -386,7 +381,130 @@ impl TableLookup for Geometry {
         }
     }
 
+    fn f32_exempt(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> bool {
+        let samples = [0, 1].map(|j| self.sample_thread(planes, j, wi, wo));
+        let q = self.gap * wo.z
+            + (0..2)
+                .map(|j| self.coverage[j] * samples[j][2])
+                .sum::<f64>();
+        f32_exempt(q, samples.map(|s| s[3]))
+    }
+
     fn as_any(&self) -> &dyn Any {
         self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bake::bake;
+    use crate::table::Layout;
+
+    fn builtin(name: &str) -> Fabric {
+        let set = crate::formats::fabric_toml::FabricSet::builtin();
+        set.get(name).expect("built-in fabric").clone()
+    }
+
+    /// At a texel's own coordinates the thread_frame lookup returns that texel's stored
+    /// channels, and halfway between two texels along an axis their mean.
+    #[test]
+    fn thread_frame_lookup_reproduces_texels_at_their_coordinates() {
+        let table = bake(&builtin("linen_plain"), Layout::THREAD_FRAME, 8, &|| {}).unwrap();
+        let Some(geometry) = table.geometry_as::<Geometry>() else {
+            panic!("not thread_frame")
+        };
+        let planes = table.planes();
+        for j in 0..2 {
+            let thread = &geometry.threads[j];
+            let n = thread.axes.map(|a| a.texels);
+            let mut checked = 0;
+            let all = (0..n[0]).flat_map(|i0| {
+                (0..n[1]).flat_map(move |i1| {
+                    (0..n[2]).flat_map(move |i2| (0..n[3]).map(move |i3| [i0, i1, i2, i3]))
+                })
+            });
+            for index in all {
+                let coordinates = [0, 1, 2, 3].map(|a| thread.axes[a].texel_value(index[a]));
+                let (wi, wo) = thread.directions(coordinates);
+                // Texels below the horizon extend the function; only pairs above it are
+                // looked up (and only there is the coordinate map invertible).
+                if wi.z <= 1e-3 || wo.z <= 1e-3 {
+                    continue;
+                }
+                let stored = &planes[j].data[thread.texel_index(index) * 2..][..2];
+                let [r, t, _, _] = geometry.sample_thread(planes, j, wi, wo);
+                for (got, want) in [(r, stored[0]), (t, stored[1])] {
+                    assert!(
+                        (got - want as f64).abs() <= 1e-6 * (want as f64).abs().max(1e-3),
+                        "thread {j} {index:?}: {got} vs {want}"
+                    );
+                }
+                // Halfway along v (a linear axis) between this texel and the next.
+                if index[3] + 1 == n[3] {
+                    continue;
+                }
+                let next = [index[0], index[1], index[2], index[3] + 1];
+                let mut halfway = coordinates;
+                halfway[3] = 0.5 * (coordinates[3] + thread.axes[3].texel_value(index[3] + 1));
+                let (wi, wo) = thread.directions(halfway);
+                if wi.z <= 1e-3 || wo.z <= 1e-3 {
+                    continue;
+                }
+                let following = &planes[j].data[thread.texel_index(next) * 2..][..2];
+                let [r, t, _, _] = geometry.sample_thread(planes, j, wi, wo);
+                for (got, a, b) in [(r, stored[0], following[0]), (t, stored[1], following[1])] {
+                    let want = 0.5 * (a as f64 + b as f64);
+                    assert!(
+                        (got - want).abs() <= 1e-6 * want.abs().max(1e-3),
+                        "thread {j} {index:?} halfway: {got} vs {want}"
+                    );
+                }
+                checked += 1;
+            }
+            assert!(
+                checked > 100,
+                "thread {j}: only {checked} texels above the horizon"
+            );
+        }
+    }
+
+    /// The fold (u, v) → (−u, −v) (the exact b → −b symmetry of every tangent sample) glues the
+    /// table's u = 0 slice to itself with v → −v: a lookup just below u = 0 reads the slice at −v.
+    /// The slice must therefore be symmetric in v, or F jumps across the fold. Baked texels are
+    /// symmetric up to rounding; the filled ones (⟨P⟩ below the floor) must be too.
+    #[test]
+    fn thread_frame_u0_slice_is_symmetric_in_v() {
+        for name in ["polyester_satin_charmeuse", "linen_plain"] {
+            let table = bake(&builtin(name), Layout::THREAD_FRAME, 12, &|| {}).unwrap();
+            let Some(geometry) = table.geometry_as::<Geometry>() else {
+                panic!("not thread_frame")
+            };
+            for j in 0..2 {
+                let thread = &geometry.threads[j];
+                let n = thread.axes.map(|a| a.texels);
+                let data = &table.planes()[j].data;
+                let mut worst = 0.0f64;
+                for i0 in 0..n[0] {
+                    for i1 in 0..n[1] {
+                        for i3 in 0..n[3] {
+                            let a = thread.texel_index([i0, i1, 0, i3]) * 2;
+                            let b = thread.texel_index([i0, i1, 0, n[3] - 1 - i3]) * 2;
+                            for c in 0..2 {
+                                let (x, y) = (data[a + c] as f64, data[b + c] as f64);
+                                worst = worst.max((x - y).abs() / x.abs().max(y.abs()).max(1e-3));
+                            }
+                        }
+                    }
+                }
+                // f16 storage: symmetric values round identically, so any difference beyond
+                // one f16 step (2^-11 relative) is a real asymmetry.
+                assert!(
+                    worst <= 1e-3,
+                    "{name} thread {j}: u = 0 slice asymmetric by {worst:.2e}"
+                );
+                eprintln!("{name} thread {j}: u = 0 slice symmetric to {worst:.1e}");
+            }
+        }
     }
 }

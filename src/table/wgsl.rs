@@ -12,8 +12,8 @@ use std::fmt::Write;
 /// layout's WGSL file and what it requires, and the generated module `brdf`: `fn
 /// cloth_brdf(wi, wo)` = F(wi, wo) by the table (docs/model.md#the-patch-transfer-f;
 /// [`Table::lookup`] up to f32 rounding and filtering precision). Bindings as the layout's
-/// textures ([`super::TableLookup::textures`]) and the sampler at binding 3, in group 0; no
-/// uniform block.
+/// textures ([`super::TableLookup::textures`]) and the sampler at
+/// [`super::bindings::SAMPLER_BINDING`], in group 0; no uniform block.
 pub fn lookup_wgsl(table: &Table) -> String {
     compose_lookup(lookup_composer(table))
 }
@@ -130,6 +130,7 @@ pub fn wgsl_vec<T: Into<f64> + Copy>(values: &[T]) -> String {
 mod tests {
     use super::*;
     use crate::table::Layout;
+    use crate::table::bindings::{SAMPLER_BINDING, slot};
 
     #[test]
     fn threshold_is_the_f32_just_below_the_model_threshold() {
@@ -193,20 +194,32 @@ mod tests {
                         .iter()
                         .all(|(_, g)| g.space != naga::AddressSpace::Uniform)
                 );
-                // Every texture the WGSL binds is one the layout provides, and vice versa.
-                let mut declared: Vec<u32> = module
+                // Every texture the WGSL binds is one the layout provides, and vice versa, at
+                // a declared slot with the slot's dimension.
+                let mut declared: Vec<(u32, bool)> = module
                     .global_variables
                     .iter()
                     .filter(|(_, g)| g.space == naga::AddressSpace::Handle)
-                    .filter_map(|(_, g)| g.binding.as_ref().map(|b| b.binding))
-                    .filter(|&b| b != 3)
+                    .filter_map(|(_, g)| Some((g.binding.as_ref()?.binding, g.ty)))
+                    .filter(|&(b, _)| b != SAMPLER_BINDING)
+                    .map(|(b, ty)| match module.types[ty].inner {
+                        naga::TypeInner::Image { dim, arrayed, .. } => {
+                            let slot = slot(b).unwrap_or_else(|| panic!("binding {b} undeclared"));
+                            let three_d = dim == naga::ImageDimension::D3 && !arrayed;
+                            let array = dim == naga::ImageDimension::D2 && arrayed;
+                            assert!(three_d || array, "{layout}: binding {b} of another kind");
+                            assert_eq!(three_d, slot.three_d(), "{layout}: binding {b}");
+                            (b, three_d)
+                        }
+                        ref other => panic!("{layout}: binding {b} is {other:?}"),
+                    })
                     .collect();
                 declared.sort();
-                let provided: Vec<u32> = table
+                let provided: Vec<(u32, bool)> = table
                     .geometry()
                     .textures(table.planes())
                     .iter()
-                    .map(|t| t.binding)
+                    .map(|t| (t.binding, t.three_d))
                     .collect();
                 assert_eq!(declared, provided, "{} {layout}", fabric.name);
                 // Moved to another group, no binding is left in group 0.

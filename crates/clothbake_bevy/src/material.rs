@@ -39,7 +39,9 @@ pub const DEFAULT_ENVIRONMENT_SAMPLES: u32 = 96;
 /// environment map light, in the thread frame of the mesh's UV tangents (thread 1 along u;
 /// meshes need `Mesh::ATTRIBUTE_TANGENT`).
 ///
-/// Bindings in the material's group: the table's sampler (3), its textures (4–7), the
+/// Bindings in the material's group: the table's sampler and texture slots as clothbake
+/// declares them (`clothbake::table::bindings`: the sampler at 3, the slots at 4–7; the
+/// attributes below must be literals, and the plugin's tests pin them to that list), the
 /// directional albedo map (8) and the fabric's sample taps (9), all sub-assets of one
 /// [`ClothTable`].
 #[derive(Asset, TypePath, AsBindGroup, Clone, Debug)]
@@ -83,6 +85,8 @@ impl From<&ClothMaterial> for ClothMaterialKey {
 impl ClothMaterial {
     /// The material of a loaded table (`handle` is `table`'s).
     pub fn from_table(handle: Handle<ClothTable>, table: &ClothTable) -> Self {
+        // One handle per core slot, in slot order: a slot added to the core fails to compile
+        // here until the material binds it.
         let [binding4, binding5, binding6, binding7] = table.textures.clone();
         Self {
             binding4,

@@ -8,7 +8,7 @@
 //!
 //! | label | asset | what |
 //! |---|---|---|
-//! | `binding4` … `binding7` | [`Image`] | the layout's textures at those bindings (`TableLookup::textures`), f16; a 1-texel stand-in where the layout has none |
+//! | `binding4` … `binding7` | [`Image`] | one per slot of clothbake's table bindings (`clothbake::table::bindings::TEXTURE_SLOTS`, labeled by binding): the layout's texture there (`TableLookup::textures`), f16; a 1-texel stand-in where the layout has none |
 //! | `albedo` | [`Image`] | the directional albedo ∫F dwi over wo (`clothbake::sampling::AlbedoMap`), for ambient light |
 //! | `sampling` | [`ShaderBuffer`] | the fabric's sample taps built from the table for [`crate::DEFAULT_ENVIRONMENT_SAMPLES`] per fragment (`clothbake::sampling::SampleTaps::words`), for environment map light |
 //! | `shader` | [`Shader`] | `cloth_material.wgsl` composed with the table's specialised lookup and the sample taps' functions |
@@ -29,6 +29,7 @@ use clothbake::sampling::{
 };
 use clothbake::shader;
 use clothbake::table::TextureData;
+use clothbake::table::bindings::{SlotDimension, TEXTURE_SLOTS, TextureSlot};
 use clothbake::table::wgsl::lookup_composer;
 
 /// The fragment shader, composed by clothbake's composer after the modules its header
@@ -37,14 +38,13 @@ const MATERIAL_WGSL: &str = include_str!("cloth_material.wgsl");
 /// Its name as a generated module of the composer.
 const MATERIAL_MODULE: &str = "cloth_material";
 
-/// The table bindings a layout may use (`clothbake::table::TableLookup::textures`): 3D
-/// textures at 4 and 5, 2D array textures at 6 and 7.
-const TABLE_BINDINGS: [(u32, TextureViewDimension); 4] = [
-    (4, TextureViewDimension::D3),
-    (5, TextureViewDimension::D3),
-    (6, TextureViewDimension::D2Array),
-    (7, TextureViewDimension::D2Array),
-];
+/// The view dimension of a texture slot of clothbake's table bindings.
+pub(crate) fn view_dimension(slot: TextureSlot) -> TextureViewDimension {
+    match slot.dimension {
+        SlotDimension::D3 => TextureViewDimension::D3,
+        SlotDimension::D2Array => TextureViewDimension::D2Array,
+    }
+}
 
 /// Importance samples per node of the albedo map: its nodes' standard errors are then
 /// 0.1–0.3% of the albedo (the sampler's variance is 100–470× below cosine sampling).
@@ -55,11 +55,12 @@ pub const ALBEDO_SAMPLES: usize = 256;
 pub struct ClothTable {
     /// The fabric's name in the table's provenance.
     pub fabric: String,
-    /// The table layout (`thread_frame`, `split_frame`, `grid4d`) and its resolution.
+    /// The table layout (a name of `clothbake::table::Layout::ALL`) and its resolution.
     pub layout: String,
     pub resolution: u32,
-    /// The textures at bindings 4, 5, 6 and 7 of the material's bind group.
-    pub textures: [Handle<Image>; 4],
+    /// The textures of clothbake's table slots (`clothbake::table::bindings::TEXTURE_SLOTS`),
+    /// in their order, at their bindings of the material's bind group.
+    pub textures: [Handle<Image>; TEXTURE_SLOTS.len()],
     /// The directional albedo map (binding 8).
     pub albedo: Handle<Image>,
     /// The fabric's sampler (binding 9).
@@ -115,8 +116,9 @@ impl AssetLoader for ClothTableLoader {
         let table = &file.table;
 
         let planes = table.geometry().textures(table.planes());
-        let mut textures = Vec::with_capacity(TABLE_BINDINGS.len());
-        for (binding, dimension) in TABLE_BINDINGS {
+        let mut textures = Vec::with_capacity(TEXTURE_SLOTS.len());
+        for slot in TEXTURE_SLOTS {
+            let (binding, dimension) = (slot.binding, view_dimension(slot));
             let image = match planes.iter().find(|t| t.binding == binding) {
                 Some(texture) => {
                     table_image(texture, dimension).ok_or_else(|| ClothTableError::Channels {
@@ -161,7 +163,7 @@ impl AssetLoader for ClothTableLoader {
             fabric: table.fabric.name.clone(),
             layout: table.layout.name().to_string(),
             resolution: table.resolution,
-            textures: textures.try_into().expect("one handle per binding"),
+            textures: textures.try_into().expect("one handle per slot"),
             albedo,
             sampling,
             shader,

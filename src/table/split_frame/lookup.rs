@@ -3,13 +3,13 @@
 //! textures, and the bound on the GPU's difference.
 
 use super::Geometry;
+use crate::table::bindings::{ARRAY_SLOTS, VOLUME_SLOTS, stand_in_texture};
 use crate::table::gpu_bound::{self, GpuErrorBound};
 use crate::table::thread;
 use crate::table::wgsl::coverage_wgsl;
 use crate::table::{BATCH_LANES, BatchLanes, Plane, TableLookup, TextureData};
 use glam::{DVec3, Vec3};
 use std::any::Any;
-use std::fmt::Write;
 
 impl TableLookup for Geometry {
     fn terms(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> [f64; 3] {
@@ -44,42 +44,33 @@ impl TableLookup for Geometry {
 
     fn wgsl_constants(&self) -> String {
         let mut out = coverage_wgsl(self.coverage, self.gap);
-        let mut any = false;
-        for (j, _) in self.tabulated() {
-            let _ = writeln!(
-                out,
-                "@group(CLOTH_BRDF_GROUP) @binding({}) var cloth_split_table{}: texture_3d<f32>;",
-                4 + j,
-                j + 1
-            );
-            any = true;
-        }
-        if any {
-            out += "// ⟨P⟩ of the sloped segments, one layer per tabulated thread.\n\
-                    @group(CLOTH_BRDF_GROUP) @binding(6) var cloth_split_masking: \
-                    texture_2d_array<f32>;\n";
-        }
         for j in 0..2 {
             out += &self.thread_wgsl(j);
         }
         out
     }
 
+    /// The sloped tables and their masking planes; the WGSL declares a table for each thread
+    /// and the masking texture, so a thread without sloped segments (or a table without any)
+    /// gets a one-texel stand-in there, which the lookup never reads.
     fn textures(&self, planes: &[Plane]) -> Vec<TextureData> {
-        let mut textures: Vec<TextureData> = self
-            .tabulated()
-            .map(|(j, slopes)| {
-                let (table, _) = self.planes[j].expect("a tabulated thread has planes");
-                thread::thread_texture(&planes[table], &slopes.geometry, j)
+        let mut textures: Vec<TextureData> = (0..2)
+            .map(|j| match (&self.threads[j].slopes, self.planes[j]) {
+                (Some(slopes), Some((table, _))) => {
+                    thread::thread_texture(&planes[table], &slopes.geometry, j)
+                }
+                _ => stand_in_texture(VOLUME_SLOTS[j]),
             })
             .collect();
         let masking: Vec<Plane> = self
             .tabulated()
             .map(|(j, _)| planes[self.planes[j].expect("planes").1].clone())
             .collect();
-        if !masking.is_empty() {
-            textures.push(thread::masking_texture(&masking));
-        }
+        textures.push(if masking.is_empty() {
+            stand_in_texture(ARRAY_SLOTS[0])
+        } else {
+            thread::masking_texture(&masking)
+        });
         textures
     }
 
@@ -127,6 +118,22 @@ impl TableLookup for Geometry {
             per_channel: total,
             on_fold: folded,
         }
+    }
+
+    /// Q from every thread's sums, and cos²θd' of the sloped tables only (the point masses
+    /// divide by nothing).
+    fn f32_exempt(&self, planes: &[Plane], wi: DVec3, wo: DVec3) -> bool {
+        let q = self.gap * wo.z
+            + (0..2)
+                .map(|j| self.coverage[j] * self.thread_sums(planes, j, wi, wo)[2])
+                .sum::<f64>();
+        let cos2_d = self.tabulated().map(|(j, slopes)| {
+            let (t, m) = self
+                .plane_indices(j)
+                .expect("a tabulated thread has planes");
+            slopes.geometry.sample(&planes[t], &planes[m], wi, wo)[3]
+        });
+        thread::f32_exempt(q, cos2_d)
     }
 
     fn as_any(&self) -> &dyn Any {

@@ -412,61 +412,55 @@ impl Geometry {
         }
     }
 
-    /// `cloth_split_threadJ(wi, wo)`: thread j's sums as [`Self::thread_sums`], in WGSL.
+    /// The constants of thread j that `cloth_split_threadJ` of `shaders/table/split_frame.wgsl`
+    /// reads: its point masses (count, and (cos α_k, sin α_k, w_k), one unused entry where it
+    /// has none, WGSL having no empty arrays), its sample material and axes, and its sloped
+    /// table (whether it has one, its share w_c and its `ClothThreadTable`).
     fn thread_wgsl(&self, j: usize) -> String {
         let k = j + 1;
         let thread = &self.threads[j];
-        let mut f = String::new();
-        if let (Some(slopes), Some((table, _))) = (&thread.slopes, self.planes[j]) {
-            f += &slopes.geometry.wgsl_function(
-                &format!("cloth_split_slopes{k}"),
-                &format!("cloth_split_table{k}"),
-                "cloth_split_masking",
-                table,
-            );
-        }
+        let sloped = thread.slopes.as_ref().zip(self.planes[j]);
+        let mut f = format!(
+            "\n// Thread {k}: {} point masses, sloped share {}.\n",
+            thread.points.len(),
+            sloped.map_or(0.0, |(s, _)| s.weight)
+        );
+        let points: Vec<String> = match &thread.points[..] {
+            [] => vec![wgsl_vec(&[0.0f32; 3])],
+            points => points
+                .iter()
+                .map(|&(cos_a, sin_a, weight)| wgsl_vec(&[cos_a, sin_a, weight]))
+                .collect(),
+        };
+        let (t0, b) = crate::model::thread_axes(j);
         let _ = write!(
             f,
-            "\n// Thread {k}: {} point masses, sloped share {}.\n\
-             fn cloth_split_thread{k}(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {{\n    \
-             var sums = vec3<f32>(0.0);\n",
+            "const CLOTH_SPLIT_POINT_COUNT{k} = {}u;\n\
+             const CLOTH_SPLIT_POINTS{k} = array<vec3<f32>, {}>(\n    {},\n);\n\
+             const CLOTH_SPLIT_MATERIAL{k} = {};\n\
+             const CLOTH_SPLIT_T0_{k} = {};\n\
+             const CLOTH_SPLIT_B{k} = {};\n\
+             const CLOTH_SPLIT_SLOPED{k} = {};\n\
+             const CLOTH_SPLIT_SLOPED_SHARE{k} = {};\n",
             thread.points.len(),
-            thread.slopes.as_ref().map_or(0.0, |s| s.weight)
+            points.len(),
+            points.join(",\n    "),
+            self.material_wgsl(j),
+            wgsl_vec(&t0.to_array()),
+            wgsl_vec(&b.to_array()),
+            sloped.is_some(),
+            wgsl_f32(sloped.map_or(0.0, |(s, _)| s.weight)),
         );
-        if !thread.points.is_empty() {
-            let (t0, b) = crate::model::thread_axes(j);
-            let _ = write!(
-                f,
-                "    let material = {};\n    \
-                 let pair = cloth_sample_pair(wi, wo, {}, {}, material.k_u);\n    \
-                 if pair.par_i > material.threshold && pair.par_o > material.threshold {{\n",
-                self.material_wgsl(j),
-                wgsl_vec(&t0.to_array()),
-                wgsl_vec(&b.to_array()),
-            );
-            for &(cos_a, sin_a, weight) in &thread.points {
-                let _ = writeln!(
-                    f,
-                    "        let s{n} = cloth_sample_terms(pair, material, {}, {});\n        \
-                     sums += {} * vec3<f32>(s{n}.y, s{n}.z + s{n}.w, s{n}.x);",
-                    wgsl_f32(cos_a),
-                    wgsl_f32(sin_a),
-                    wgsl_f32(weight),
-                    n = f.matches("cloth_sample_terms").count(),
-                );
+        match sloped {
+            Some((slopes, (table, _))) => {
+                f += &slopes
+                    .geometry
+                    .wgsl_constant(&format!("CLOTH_SPLIT_SLOPES{k}"), table);
             }
-            f += "    }\n";
+            None => {
+                let _ = writeln!(f, "const CLOTH_SPLIT_SLOPES{k} = CLOTH_SPLIT_NO_TABLE;");
+            }
         }
-        if let Some(slopes) = &thread.slopes {
-            let _ = writeln!(
-                f,
-                "    let c = cloth_split_slopes{k}(wi, wo);\n    \
-                 let p = {} * c.z;\n    \
-                 sums += vec3<f32>(c.x * p / max(c.w, 1e-8), c.y * p, p);",
-                wgsl_f32(slopes.weight)
-            );
-        }
-        f += "    return sums;\n}\n";
         f
     }
 

@@ -4,6 +4,7 @@
 use super::geometry::{MASKING_TEXELS, ThreadGeometry};
 use crate::model::patch::ThreadModel;
 use crate::model::{Fabric, Integration};
+use crate::table::bindings::{ARRAY_SLOTS, VOLUME_SLOTS};
 use crate::table::{Plane, TextureData};
 use glam::DVec3;
 use half::f16;
@@ -39,8 +40,8 @@ pub fn thread_texture(plane: &Plane, thread: &ThreadGeometry, j: usize) -> Textu
     }
     TextureData {
         name: format!("thread{}", j + 1),
-        binding: 4 + j as u32,
-        three_d: true,
+        binding: VOLUME_SLOTS[j].binding,
+        three_d: VOLUME_SLOTS[j].three_d(),
         size: [n0 as u32, n1 as u32, (n2 * block) as u32],
         channels: 2,
         texels,
@@ -52,8 +53,8 @@ pub fn masking_texture(planes: &[Plane]) -> TextureData {
     let n = MASKING_TEXELS as u32;
     TextureData {
         name: "masking".into(),
-        binding: 6,
-        three_d: false,
+        binding: ARRAY_SLOTS[0].binding,
+        three_d: ARRAY_SLOTS[0].three_d(),
         size: [n, n, planes.len() as u32],
         channels: 1,
         texels: planes

@@ -1,14 +1,14 @@
 //! A thread's table axes in its resonant frame (the coordinates derived in
 //! [`crate::table::thread_frame`]'s module documentation): how many texels each axis gets and
 //! where ([`AxisPlan`], the ridge bands of βH), the coordinates of a pair and their inverse,
-//! and the WGSL that locates a pair in them.
+//! and the WGSL constant that describes them.
 
 use crate::model::fabric::TangentSampling;
 use crate::model::{Fabric, thread_axes};
 use crate::table::PlaneSpec;
 use crate::table::axis::{Axis, AxisF32, Warp};
 use crate::table::fast_math::Lanes;
-use crate::table::wgsl::wgsl_f32;
+use crate::table::wgsl::{wgsl_f32, wgsl_vec};
 use glam::{DVec3, Vec3};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt::Write;
@@ -318,46 +318,36 @@ impl ThreadGeometry {
         ((i[2] * n[3] + i[3]) * n[1] + i[1]) * n[0] + i[0]
     }
 
-    /// The WGSL function `name(wi, wo) -> vec4<f32>` sampling this thread
-    /// (`cloth_sample_thread` of `shaders/table/thread_geometry.wgsl`: reflection, transmission,
-    /// ⟨P⟩, cos²θd') from the 3D texture `table` and layer `layer` of the masking array
-    /// texture `masking`, with its frame and axes as literals.
-    pub fn wgsl_function(&self, name: &str, table: &str, masking: &str, layer: usize) -> String {
-        let n = self.axes.map(|a| a.texels);
-        let swizzle = if self.t0 == DVec3::X { "xyz" } else { "yxz" };
-        let names = ["c.beta_h", "c.theta_d", "c.u", "c.v"];
+    /// The WGSL constant `name` describing this thread's table as `cloth_thread_sample` of
+    /// `shaders/table/thread_geometry.wgsl` reads it (a `ClothThreadTable`: its frame, axes,
+    /// texel counts and the layer of its ⟨P⟩ in the masking array texture), with a comment
+    /// describing the axes.
+    pub fn wgsl_constant(&self, name: &str, layer: usize) -> String {
         let labels = ["βH", "θd'", "u", "v"];
-        let mut f = format!(
-            "\n// t0 = {t0}, b = {b}; 4D table {table}, ⟨P⟩ in layer {layer} of {masking}.\n\
-             fn {name}(wi: vec3<f32>, wo: vec3<f32>) -> vec4<f32> {{\n    \
-             let c = cloth_thread_coordinates(wi.{swizzle}, wo.{swizzle});\n    \
-             // Continuous texel coordinates of the 4D table (`Axis::locate`).\n    \
-             let g = vec4<f32>(\n",
+        let mut out = format!(
+            "\n// t0 = {t0}, b = {b}; ⟨P⟩ in layer {layer} of the masking texture.\n",
             t0 = self.t0,
             b = self.b,
         );
-        for a in 0..4 {
-            let (call, about) = AxisF32::wgsl_texel(&self.axes[a], names[a]);
-            let _ = writeln!(
-                f,
-                "        // Axis {a}, {}: {about}.\n        {call},",
-                labels[a]
-            );
+        let mut axes = Vec::new();
+        for (a, axis) in self.axes.iter().enumerate() {
+            let (value, about) = AxisF32::wgsl_axis(axis);
+            let _ = writeln!(out, "// Axis {a}, {}: {about}.", labels[a]);
+            axes.push(value);
         }
-        let (bi, about) = AxisF32::wgsl_texel(&self.masking_axis, "c.beta_i");
-        let (bo, _) = AxisF32::wgsl_texel(&self.masking_axis, "c.beta_o");
-        let _ = write!(
-            f,
-            "    );\n    // ⟨P⟩ table over (βi, βo): {about} per axis.\n    \
-             let gm = vec2<f32>(\n        {bi},\n        {bo},\n    );\n    \
-             return cloth_sample_thread({table}, {masking}, {layer}, g, vec4<f32>({}, {}, {}, {}), gm, {}, c.cos2_d);\n}}\n",
-            wgsl_f32(n[0] as f64),
-            wgsl_f32(n[1] as f64),
-            wgsl_f32(n[2] as f64),
-            wgsl_f32(n[3] as f64),
+        let (masking, about) = AxisF32::wgsl_axis(&self.masking_axis);
+        let _ = writeln!(out, "// ⟨P⟩ table over (βi, βo): {about} per axis.");
+        let n = self.axes.map(|a| a.texels as f64);
+        let _ = writeln!(
+            out,
+            "const {name} = ClothThreadTable(\n    {},\n    array<ClothAxis, 4>(\n        {},\n    ),\n    \
+             {},\n    {masking},\n    {},\n    {layer}i,\n);",
+            self.t0 != DVec3::X,
+            axes.join(",\n        "),
+            wgsl_vec(&n),
             wgsl_f32(self.masking_axis.texels as f64),
         );
-        f
+        out
     }
 
     /// This thread's axes in f32: the four 4D axes, then the masking axis.

@@ -14,4 +14,4 @@ pub use bake::{
 };
 pub(crate) use geometry::lanes_in_thread_axes;
 pub use geometry::{AxisPlan, MASKING_TEXELS, MIN_BETA_TEXELS, ThreadGeometry};
-pub use lookup::{LocatedPairs, thread_errors};
+pub use lookup::{LocatedPairs, f32_exempt, thread_errors};

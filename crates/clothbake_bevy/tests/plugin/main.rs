@@ -7,6 +7,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod bindings;
 mod example;
 mod headless;
 mod loader;
