@@ -128,7 +128,7 @@ pub trait Evaluator: Send + Sync + fmt::Debug {
 
 /// One fabric's evaluation of F, on the CPU and (with the runtime) on the GPU.
 pub trait FabricEvaluator: Send + Sync {
-    /// A short description for logs (`table split_frame R=31`, `paper N=32`).
+    /// A short description for logs (`table LAYOUT R=31`, `paper N=32`).
     fn label(&self) -> String;
     /// F(wi, wo), cosines included, for unit directions in the patch frame.
     fn eval(&self, wi: DVec3, wo: DVec3) -> DVec3;

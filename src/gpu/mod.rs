@@ -214,7 +214,7 @@ pub trait GpuBrdf {
     fn bind_group_layout(&self) -> &wgpu::BindGroupLayout;
     /// The group 0 resources.
     fn bind_group(&self) -> &wgpu::BindGroup;
-    /// Short description for logs, e.g. "lookup split_frame R=31" or "paper N=32".
+    /// Short description for logs, e.g. "lookup LAYOUT R=31" or "paper N=32".
     fn label(&self) -> String;
 }
 

@@ -58,13 +58,10 @@ macro_rules! shader_files {
 shader_files![
     // The model in f32: one tangent sample of a thread, the resonant quadrature.
     "model/tangent_sample",
-    // Table lookups: the part every layout shares, a thread tabulated in its resonant frame,
-    // one file per layout (`table/<layout name>`, found by that name).
+    // Table lookups: the part every layout shares, a thread tabulated in its resonant frame
+    // (each layout's own file is its unit's, `LayoutUnit::wgsl_file`).
     "table/lookup",
     "table/thread_geometry",
-    "table/thread_frame",
-    "table/split_frame",
-    "table/grid4d",
     // Kernels over any BRDF or the sampler (src/gpu/).
     "gpu/eval_pairs",
     "gpu/sampler_pairs",

@@ -174,7 +174,8 @@ fn every_file_is_registered_once_and_requires_known_modules() {
         }
     }
     // Every file of shaders/ is registered.
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = root.join("shaders");
     let mut on_disk = Vec::new();
     let mut stack = vec![dir.clone()];
     while let Some(d) = stack.pop() {
@@ -189,12 +190,25 @@ fn every_file_is_registered_once_and_requires_known_modules() {
         }
     }
     on_disk.sort();
-    let mut registered: Vec<&str> = FILES.iter().map(|f| f.name).collect();
+    // The layouts' own files are their units', under the same names.
+    let layouts = Layout::ALL.iter().map(|l| l.unit().wgsl_file());
+    for unit_file in layouts.clone() {
+        let on_disk = std::fs::read_to_string(root.join(unit_file.path)).expect(unit_file.path);
+        assert_eq!(on_disk, unit_file.source, "{}", unit_file.path);
+        assert_eq!(format!("shaders/{}.wgsl", unit_file.name), unit_file.path);
+    }
+    let mut registered: Vec<&str> = FILES
+        .iter()
+        .map(|f| f.name)
+        .chain(layouts.map(|f| f.name))
+        .collect();
     registered.sort();
     assert_eq!(on_disk, registered);
-    // Every layout has its file.
     for &layout in Layout::ALL {
-        assert!(file(&layout_module(layout)).is_some(), "{layout}");
+        assert!(
+            file(layout_module(layout)).is_none(),
+            "{layout}: registered twice"
+        );
     }
 }
 

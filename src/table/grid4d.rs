@@ -23,6 +23,7 @@ use super::{
     LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, octahedral, quadrilinear_corners,
 };
 use crate::model::{Fabric, Integration, Patch};
+use crate::shader::ShaderFile;
 use glam::{DVec2, DVec3, Vec2, Vec3};
 use half::f16;
 use rayon::prelude::*;
@@ -32,9 +33,20 @@ use std::sync::Arc;
 /// The layout unit `grid4d`.
 pub struct Grid4d;
 
+/// The layout's WGSL file: the lookup `cloth_grid4d_brdf(wi, wo)`.
+const WGSL_FILE: ShaderFile = ShaderFile {
+    name: "table/grid4d",
+    path: "shaders/table/grid4d.wgsl",
+    source: include_str!("../../shaders/table/grid4d.wgsl"),
+};
+
 impl LayoutUnit for Grid4d {
     fn name(&self) -> &'static str {
         "grid4d"
+    }
+
+    fn wgsl_file(&self) -> &'static ShaderFile {
+        &WGSL_FILE
     }
 
     fn default_resolution(&self) -> u32 {

@@ -64,8 +64,11 @@ pub trait LayoutUnit: Sync {
     /// The lookup of a table of `fabric` at `resolution` (its geometry; texels stay in the
     /// planes).
     fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup>;
-    // The layout's WGSL file is `shaders/table/<name>.wgsl`, registered in
-    // `crate::shader::FILES` as `table/<name>`; it defines `cloth_<name>_brdf(wi, wo)`.
+    /// The layout's WGSL file, `shaders/table/<name>.wgsl` under the module name
+    /// `table/<name>`: it defines `cloth_<name>_brdf(wi, wo)` over the shared lookup files
+    /// and the generated constants, and the lookup's composer adds it
+    /// ([`crate::shader::Composer::unit_file`]).
+    fn wgsl_file(&self) -> &'static crate::shader::ShaderFile;
 }
 
 /// The lanes of a batch lookup's coordinates ([`fast_math::Lanes`]): eight f32, one AVX

@@ -74,6 +74,7 @@ use super::thread::{
 use super::wgsl::coverage_wgsl;
 use super::{BATCH_LANES, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
 use crate::model::{Fabric, Integration, patch::ThreadModel};
+use crate::shader::ShaderFile;
 use glam::{DVec3, Vec3};
 use std::any::Any;
 use std::sync::Arc;
@@ -81,9 +82,20 @@ use std::sync::Arc;
 /// The layout unit `thread_frame`.
 pub struct ThreadFrame;
 
+/// The layout's WGSL file: the lookup `cloth_thread_frame_brdf(wi, wo)`.
+const WGSL_FILE: ShaderFile = ShaderFile {
+    name: "table/thread_frame",
+    path: "shaders/table/thread_frame.wgsl",
+    source: include_str!("../../shaders/table/thread_frame.wgsl"),
+};
+
 impl LayoutUnit for ThreadFrame {
     fn name(&self) -> &'static str {
         "thread_frame"
+    }
+
+    fn wgsl_file(&self) -> &'static ShaderFile {
+        &WGSL_FILE
     }
 
     fn default_resolution(&self) -> u32 {

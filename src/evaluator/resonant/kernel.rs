@@ -74,8 +74,8 @@ pub fn resonant_rules_wgsl(options: &ModelOptions, nodes: ResonantNodes) -> Stri
 ///
 /// The literal is built inside the function, not as a module-scope constant: naga's HLSL
 /// initialises a struct constant through a constructor function, and glslang's HLSL front
-/// end reports two such constants as recursion (`clothbake wgsl --lang hlsl` of a
-/// split_frame table, which includes this kernel, failed to compile).
+/// end reports two such constants as recursion (`clothbake wgsl --lang hlsl` of a table
+/// whose lookup included this kernel failed to compile).
 pub fn resonant_thread_wgsl(fabric: &Fabric, j: usize, nodes: ResonantNodes) -> String {
     let mut out = String::new();
     let w = &mut out;

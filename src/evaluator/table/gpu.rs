@@ -12,13 +12,15 @@
 //! pipeline per fabric.
 
 use crate::gpu::{GpuBrdf, GpuContext, GpuError, brdf_entry};
+use crate::table::bindings::SAMPLER_BINDING;
 use crate::table::wgsl::lookup_wgsl;
 use crate::table::{Table, TextureData};
 
 /// A table on the GPU: its textures, bound in one bind group, and its specialised lookup.
 ///
-/// Bindings (group 0): 3 a linear clamp-to-edge sampler; the layout's textures at the
-/// bindings its [`crate::table::TableLookup::textures`] give.
+/// Bindings (group 0, declared in [`crate::table::bindings`]): a linear clamp-to-edge
+/// sampler at `SAMPLER_BINDING`; the layout's textures at the slots its
+/// [`crate::table::TableLookup::textures`] give.
 pub struct GpuTable {
     label: String,
     /// [`lookup_wgsl`] of the table.
@@ -54,7 +56,7 @@ impl GpuTable {
         });
 
         let mut layout_entries = vec![brdf_entry(
-            3,
+            SAMPLER_BINDING,
             wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
         )];
         layout_entries.extend(views.iter().map(|&(binding, three_d, _)| {
@@ -77,7 +79,7 @@ impl GpuTable {
             entries: &layout_entries,
         });
         let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 3,
+            binding: SAMPLER_BINDING,
             resource: wgpu::BindingResource::Sampler(&sampler),
         }];
         entries.extend(views.iter().map(|(binding, _, view)| wgpu::BindGroupEntry {

@@ -69,6 +69,7 @@ use crate::model::curve::{Integration, curve_pieces};
 use crate::model::fabric::TangentSampling;
 use crate::model::patch::ThreadModel;
 use crate::model::{Fabric, Thread};
+use crate::shader::ShaderFile;
 use glam::{DVec3, Vec3};
 use std::fmt::Write;
 use std::sync::Arc;
@@ -89,9 +90,20 @@ pub const PLAN: AxisPlan = AxisPlan {
 /// The layout unit `split_frame`.
 pub struct SplitFrame;
 
+/// The layout's WGSL file: the lookup `cloth_split_frame_brdf(wi, wo)`.
+const WGSL_FILE: ShaderFile = ShaderFile {
+    name: "table/split_frame",
+    path: "shaders/table/split_frame.wgsl",
+    source: include_str!("../../../shaders/table/split_frame.wgsl"),
+};
+
 impl LayoutUnit for SplitFrame {
     fn name(&self) -> &'static str {
         "split_frame"
+    }
+
+    fn wgsl_file(&self) -> &'static ShaderFile {
+        &WGSL_FILE
     }
 
     /// The smallest resolution at which every built-in fabric meets the default's goal
