@@ -226,3 +226,65 @@ mod runtime {
         word.parse()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn no_nodes() -> NodeArgs {
+        NodeArgs {
+            surface_nodes: None,
+            volume_nodes: None,
+            base_nodes: None,
+        }
+    }
+
+    #[test]
+    fn every_older_word_names_a_spelling_that_parses() {
+        #[cfg(feature = "runtime")]
+        let tables = [INTEGRATION_WORDS, SHADER_WORDS];
+        #[cfg(not(feature = "runtime"))]
+        let tables = [INTEGRATION_WORDS];
+        for words in tables {
+            for (word, name) in words {
+                let spelling = older_spelling("--option", word, words, None, &no_nodes()).unwrap();
+                let evaluator = clothbake::evaluator::parse(&spelling).unwrap();
+                assert!(evaluator.spelling().starts_with(name), "{word}: {spelling}");
+            }
+        }
+        let paper = older_spelling(
+            "--integration",
+            "paper",
+            INTEGRATION_WORDS,
+            Some(8),
+            &no_nodes(),
+        );
+        assert_eq!(paper.unwrap(), "paper:8");
+        let nodes = NodeArgs {
+            base_nodes: Some(3),
+            ..no_nodes()
+        };
+        let resonant = older_spelling("--integration", "resonant", INTEGRATION_WORDS, None, &nodes);
+        let d = ResonantNodes::DEFAULT;
+        assert_eq!(
+            resonant.unwrap(),
+            format!("resonant:{}/{}/3", d.surface, d.volume)
+        );
+    }
+
+    #[test]
+    fn older_options_that_do_not_fit_their_evaluator_are_named() {
+        let error = |word, samples, nodes: &NodeArgs| {
+            older_spelling("--integration", word, INTEGRATION_WORDS, samples, nodes)
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(error("direct", Some(8), &no_nodes()).contains("not --integration direct"));
+        let nodes = NodeArgs {
+            surface_nodes: Some(3),
+            ..no_nodes()
+        };
+        assert!(error("paper", None, &nodes).contains("apply to --integration resonant"));
+        assert!(error("midpoint", None, &no_nodes()).contains("--integration midpoint"));
+    }
+}
