@@ -4,7 +4,6 @@
 
 use super::{Evaluation, Report, ReportError, markdown};
 use crate::measure::accuracy::{SetError, TableError};
-use crate::table::Layout;
 use serde::{Deserialize, Deserializer};
 use std::path::Path;
 
@@ -128,63 +127,4 @@ struct TableErrorDef {
 /// Reads a [`TableError`] (`#[serde(deserialize_with)]` of the report's points).
 pub(super) fn table_error<'de, D: Deserializer<'de>>(d: D) -> Result<TableError, D::Error> {
     TableErrorDef::deserialize(d)
-}
-
-/// An [`Evaluation`] as report.json holds it: the form this clothbake writes, or the forms
-/// of reports written before points named their evaluator by its spelling (one family per
-/// integration rule), read as the spellings those rules have now.
-#[derive(Deserialize)]
-#[serde(tag = "family", rename_all = "snake_case")]
-pub(super) enum StoredEvaluation {
-    Evaluator { spelling: String },
-    Table { layout: Layout, resolution: u32 },
-    Paper { samples: u32 },
-    Resonant { nodes: StoredNodes },
-}
-
-/// The node counts of an earlier report's resonant point.
-#[derive(Deserialize)]
-pub(super) struct StoredNodes {
-    surface: u32,
-    volume: u32,
-    base: u32,
-}
-
-impl From<StoredEvaluation> for Evaluation {
-    fn from(stored: StoredEvaluation) -> Self {
-        match stored {
-            StoredEvaluation::Evaluator { spelling } => Evaluation::Evaluator { spelling },
-            StoredEvaluation::Table { layout, resolution } => {
-                Evaluation::Table { layout, resolution }
-            }
-            StoredEvaluation::Paper { samples } => {
-                Evaluation::evaluator(format!("paper:{samples}"))
-            }
-            StoredEvaluation::Resonant { nodes } => Evaluation::evaluator(format!(
-                "resonant:{}/{}/{}",
-                nodes.surface, nodes.volume, nodes.base
-            )),
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Evaluation;
-
-    #[test]
-    fn points_read_in_the_current_and_the_earlier_forms() {
-        let read = |text: &str| serde_json::from_str::<Evaluation>(text).unwrap();
-        let current = Evaluation::evaluator("paper:8");
-        let written = serde_json::to_string(&current).unwrap();
-        assert_eq!(written, r#"{"family":"evaluator","spelling":"paper:8"}"#);
-        assert_eq!(read(&written), current);
-        assert_eq!(read(r#"{"family":"paper","samples":8}"#), current);
-        assert_eq!(
-            read(r#"{"family":"resonant","nodes":{"surface":6,"volume":5,"base":2}}"#),
-            Evaluation::evaluator("resonant:6/5/2")
-        );
-        let table = r#"{"family":"table","layout":"grid4d","resolution":12}"#;
-        assert_eq!(serde_json::to_string(&read(table)).unwrap(), table);
-    }
 }

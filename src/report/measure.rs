@@ -305,9 +305,19 @@ pub fn run(
     if config.fabrics.is_empty() {
         return Err(ReportError::Config("no fabrics to report on".into()));
     }
-    for spelling in config.evaluators.iter().chain(&config.gpu_evaluators) {
-        crate::evaluator::parse(spelling)?;
-    }
+    // Each evaluator under the spelling it parses back to ("paper" is measured as
+    // "paper:32"), so that a point names its setting and is found by it.
+    let canonical = |spellings: &[String]| -> Result<Vec<String>, ReportError> {
+        spellings
+            .iter()
+            .map(|s| Ok(crate::evaluator::parse(s)?.spelling()))
+            .collect()
+    };
+    let config = &ReportConfig {
+        evaluators: canonical(&config.evaluators)?,
+        gpu_evaluators: canonical(&config.gpu_evaluators)?,
+        ..config.clone()
+    };
     for (layout, resolutions) in &config.resolutions {
         if let Some(&r) = resolutions
             .iter()

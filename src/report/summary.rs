@@ -201,8 +201,7 @@ fn budget_bullets(report: &Report, md: &mut String) {
         .config
         .evaluators
         .iter()
-        .filter(|s| Evaluation::evaluator(s.as_str()).is_baseline())
-        .next_back()
+        .rfind(|s| Evaluation::evaluator(s.as_str()).is_baseline())
         .map_or(String::new(), |s| format!("up to {s}; "));
     for budget in BUDGETS {
         let mut counts = [0usize; 5];
