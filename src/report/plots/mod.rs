@@ -127,7 +127,7 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
             )?;
             for unit in report.units() {
                 let points: Vec<&Point> = f.of_unit(unit).collect();
-                let label = format!("{} ({})", unit.name, unit.syntax);
+                let label = unit.syntax.to_string();
                 curve(
                     &mut chart,
                     &points.iter().map(|p| cost_and_error(p)).collect::<Vec<_>>(),
@@ -255,7 +255,7 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
                     .iter()
                     .filter(|p| p.evaluation.is_of(unit))
                     .collect();
-                let label = format!("{} shader ({})", unit.name, unit.syntax);
+                let label = format!("{} shader", unit.syntax);
                 curve(
                     &mut chart,
                     &points.iter().map(|p| at(p)).collect::<Vec<_>>(),
