@@ -2,7 +2,7 @@
 //! back, so that REPORT.md can be rendered again from the data without measuring anything
 //! ([`rerender`]).
 
-use super::{Report, ReportError, markdown};
+use super::{Evaluation, Report, ReportError, markdown};
 use crate::measure::accuracy::{SetError, TableError};
 use serde::{Deserialize, Deserializer};
 use std::path::Path;
@@ -34,11 +34,47 @@ pub fn read(out: &Path) -> Result<Report, ReportError> {
     })?;
     let mut report: Report =
         serde_json::from_str(&text).map_err(|source| ReportError::Json { path, source })?;
+    derive_spellings(&mut report);
     report
         .fabrics
         .iter_mut()
         .for_each(super::FabricReport::judge);
     Ok(report)
+}
+
+/// Fills the configuration's evaluator spellings from the points where a report.json written
+/// before they were recorded left them out: every evaluator measured, in the order of the
+/// points.
+fn derive_spellings(report: &mut Report) {
+    fn spellings<'a>(evaluations: impl Iterator<Item = &'a Evaluation>) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        for evaluation in evaluations {
+            if let Evaluation::Evaluator { spelling } = evaluation
+                && !out.contains(spelling)
+            {
+                out.push(spelling.clone());
+            }
+        }
+        out
+    }
+    let config = &mut report.config;
+    if config.evaluators.is_empty() {
+        config.evaluators = spellings(
+            report
+                .fabrics
+                .iter()
+                .flat_map(|f| f.points.iter().map(|p| &p.evaluation)),
+        );
+    }
+    if config.gpu_evaluators.is_empty() {
+        config.gpu_evaluators = spellings(
+            report
+                .gpu
+                .fabrics
+                .iter()
+                .flat_map(|f| f.points.iter().map(|p| &p.evaluation)),
+        );
+    }
 }
 
 /// report.json's text.

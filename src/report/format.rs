@@ -1,7 +1,7 @@
 //! How the report writes its numbers: percentages, counts, sizes, ratios and the names of
-//! tables and paper-mode points, shared by REPORT.md's sections and its summary and pick.
+//! tables and evaluator units, shared by REPORT.md's sections and its summary and pick.
 
-use super::Evaluation;
+use crate::evaluator::EvaluatorUnit;
 use crate::table::Layout;
 
 /// A relative error as a percentage, with more decimals the smaller it is.
@@ -51,13 +51,41 @@ pub(crate) fn table_name(layout: Layout, resolution: u32) -> String {
     format!("{layout} {resolution}")
 }
 
-/// A paper-mode point as the comparisons name it: "N = 32" (any other evaluation by its
-/// name).
-pub(crate) fn paper_n(evaluation: Evaluation) -> String {
-    match evaluation {
-        Evaluation::Paper { samples } => format!("N = {samples}"),
-        other => other.to_string(),
+/// What a cell says where no point of the baseline is as accurate.
+pub(crate) const NONE_UP_TO_THE_LARGEST: &str = "none up to the largest setting";
+
+/// The baseline unit's name, as the report's prose names it.
+pub(crate) fn baseline_name() -> &'static str {
+    super::baseline_unit().map_or("the baseline", |unit| unit.name)
+}
+
+/// Units' names as a list in prose: "a", "a and b", "a, b and c".
+pub(crate) fn unit_names(units: &[&EvaluatorUnit]) -> String {
+    let names: Vec<&str> = units.iter().map(|unit| unit.name).collect();
+    match names.split_last() {
+        None => "none".into(),
+        Some((last, [])) => last.to_string(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
     }
+}
+
+/// The heading of a unit's section in REPORT.md.
+pub(crate) fn unit_heading(unit: &EvaluatorUnit) -> String {
+    format!("The {} evaluator", unit.name)
+}
+
+/// The GitHub anchor of [`unit_heading`]: lower case, spaces as hyphens, and no
+/// punctuation but hyphens and underscores.
+pub(crate) fn unit_anchor(unit: &EvaluatorUnit) -> String {
+    unit_heading(unit)
+        .to_lowercase()
+        .chars()
+        .filter_map(|c| match c {
+            ' ' => Some('-'),
+            c if c.is_alphanumeric() || c == '-' || c == '_' => Some(c),
+            _ => None,
+        })
+        .collect()
 }
 
 /// A ratio as "12×" or "1.25×"; "–" when missing.

@@ -1,7 +1,8 @@
 //! The report's GPU section: the standard scene (tables/scene.toml, [`Scene::builtin`])
-//! rendered headless for each fabric, by the table lookup shader, by the paper-mode shader at
-//! each N and by the resonant shader at each of its node counts, with the GPU time per frame and the image error against the CPU
-//! reference render (direct evaluation of the same G-buffer).
+//! rendered headless for each fabric, by the table lookup shader and by the GPU form of each
+//! evaluator spelling of the configuration (every unit's [`crate::evaluator::ReportPlan`]),
+//! with the GPU time per frame and the image error against the CPU reference render (direct
+//! evaluation of the same G-buffer).
 //!
 //! Without an adapter the section says so and holds no figures; nothing is estimated in
 //! its place. A software adapter (device type Cpu, e.g. llvmpipe) is measured like any
@@ -9,9 +10,8 @@
 
 use super::{Evaluation, ReportConfig};
 use crate::evaluator::table::TableEvaluation;
-use crate::evaluator::{EvaluationContext, FabricEvaluator};
+use crate::evaluator::{EvaluationContext, FabricEvaluator, direct};
 use crate::gpu::{GpuContext, GpuError};
-use crate::model::{Integration, Patch};
 use crate::render::image::{LinearImage, image_error};
 use crate::render::{FrameSettings, Headless, reference};
 use crate::scene::Scene;
@@ -23,8 +23,7 @@ use std::time::Instant;
 /// One way of shading the scene: its GPU time per frame and its image error.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GpuPoint {
-    /// What the shader evaluates F by: the table's lookup, or the model in the shader by
-    /// paper mode or by the resonant quadrature.
+    /// What the shader evaluates F by: the table's lookup, or an evaluator's GPU form.
     pub evaluation: Evaluation,
     /// Median milliseconds per frame.
     pub ms_per_frame: f64,
@@ -184,26 +183,22 @@ fn measure_on(
             layout: table.layout,
             resolution: table.resolution,
         };
-        let paper = config
-            .paper_samples
-            .iter()
-            .filter(|&&n| n <= super::GPU_PAPER_MAX_SAMPLES)
-            .map(|&samples| Evaluation::Paper { samples });
-        let resonant = config
-            .gpu_resonant_nodes
-            .iter()
-            .map(|&nodes| Evaluation::Resonant { nodes });
+        let lookup_evaluator: Box<dyn FabricEvaluator> = Box::new(TableEvaluation {
+            table: table.clone(),
+        });
+        let mut prepared = vec![(lookup, lookup_evaluator)];
+        for spelling in &config.gpu_evaluators {
+            let evaluator = crate::evaluator::parse(spelling)
+                .and_then(|e| e.prepare(fabric, &context_files))
+                .map_err(|e| e.to_string())?;
+            prepared.push((Evaluation::evaluator(spelling.clone()), evaluator));
+        }
+        let direct = (direct::UNIT.parse)(None)
+            .and_then(|e| e.prepare(fabric, &context_files))
+            .map_err(|e| e.to_string())?;
         let mut brdfs = Vec::new();
-        for evaluation in std::iter::once(lookup).chain(paper).chain(resonant) {
-            let prepared: Box<dyn FabricEvaluator> = match evaluation {
-                Evaluation::Table { .. } => Box::new(TableEvaluation {
-                    table: table.clone(),
-                }),
-                model => crate::evaluator::parse(&model.spelling())
-                    .and_then(|e| e.prepare(fabric, &context_files))
-                    .map_err(|e| e.to_string())?,
-            };
-            let brdf = prepared.gpu(context).map_err(|e| e.to_string())?;
+        for (evaluation, evaluator) in prepared {
+            let brdf = evaluator.gpu(context).map_err(|e| e.to_string())?;
             brdfs.push((evaluation, brdf));
         }
         let mut reference: Option<(LinearImage, f64)> = None;
@@ -225,8 +220,8 @@ fn measure_on(
             };
             let (reference, _) = reference.get_or_insert_with(|| {
                 let started = Instant::now();
-                let patch = Patch::new(fabric, Integration::Direct);
-                let image = reference::shade(gbuffer, &settings, &patch, None);
+                let brdf = |wi, wo| direct.eval(wi, wo);
+                let image = reference::shade_with(gbuffer, &settings, brdf, None);
                 (image, started.elapsed().as_secs_f64())
             });
             let output = renderer.render(context, &settings, frames).map_err(text)?;
@@ -234,7 +229,7 @@ fn measure_on(
             let error = image_error(&output.linear, reference, settings.exposure)
                 .map_err(|e| e.to_string())?;
             let point = GpuPoint {
-                evaluation: *evaluation,
+                evaluation: evaluation.clone(),
                 ms_per_frame: output.timing.median_ms(),
                 samples_ms: output.timing.frame_ms.clone(),
                 image_relative_l2: error.relative_l2,

@@ -8,9 +8,10 @@ use super::{
     ReportError, Speedup, TIMING_SEED, gpu, markdown, plots,
 };
 use crate::bake::bake;
+use crate::evaluator::{EvaluationContext, FabricEvaluator, direct};
 use crate::measure::accuracy::{Reference, TableError, lookup_batch_sum, lookup_f32};
 use crate::measure::direction_sets::{highlight_pairs, uniform_pairs};
-use crate::model::{Fabric, Integration, Patch, ResonantNodes};
+use crate::model::Fabric;
 use crate::table::{Layout, Table};
 use glam::DVec3;
 use std::path::Path;
@@ -36,6 +37,15 @@ fn pool(threads: usize) -> Result<rayon::ThreadPool, ReportError> {
         .map_err(|e| ReportError::Config(format!("cannot start a thread pool: {e}")))
 }
 
+/// One evaluator of the configuration, prepared for a fabric, with its errors and its kernel
+/// evaluations per light (where it counts them).
+struct MeasuredEvaluator {
+    evaluation: Evaluation,
+    evaluator: Box<dyn FabricEvaluator>,
+    error: TableError,
+    per_light: Option<EvaluationsPerLight>,
+}
+
 /// Measures one fabric; `keep` receives each baked table (for the GPU section).
 fn measure_fabric(
     config: &ReportConfig,
@@ -53,55 +63,43 @@ fn measure_fabric(
     let reference = bake_pool.install(|| Reference::new(fabric, config.error_pairs));
 
     // Errors first (parallel), timings afterwards, all estimators interleaved.
-    let papers: Vec<(u32, Patch, TableError)> = config
-        .paper_samples
-        .iter()
-        .map(|&n| {
-            let patch = Patch::new(fabric, Integration::Paper(n));
-            let error = bake_pool.install(|| reference.measure(|wi, wo| patch.eval(wi, wo)));
-            progress(&format!(
-                "{name}: paper N = {n}: {:.2}% uniform, {:.2}% highlight",
-                100.0 * error.uniform.relative_rms,
-                100.0 * error.highlight.relative_rms,
-            ));
-            (n, patch, error)
-        })
-        .collect();
+    let context = EvaluationContext::default();
     let uniform_set = uniform_pairs(config.error_pairs, crate::measure::accuracy::UNIFORM_SEED);
     let highlight_set = highlight_pairs(
         fabric,
         config.error_pairs,
         crate::measure::accuracy::HIGHLIGHT_SEED,
     );
-    let resonants: Vec<(ResonantNodes, Patch, TableError, EvaluationsPerLight)> = config
-        .resonant_nodes
-        .iter()
-        .map(|&nodes| {
-            let patch = Patch::new(fabric, Integration::Resonant(nodes));
-            let error = bake_pool.install(|| reference.measure(|wi, wo| patch.eval(wi, wo)));
-            let count = |pairs| {
-                patch
-                    .resonant_evaluations(pairs)
-                    .expect("a resonant patch counts its evaluations")
-            };
-            let (uniform, max_uniform) = count(&uniform_set);
-            let (highlight, max_highlight) = count(&highlight_set);
-            let evaluations = EvaluationsPerLight {
-                uniform,
-                highlight,
-                max: max_uniform.max(max_highlight),
-            };
-            progress(&format!(
-                "{name}: resonant {nodes}: {:.3}% uniform, {:.3}% highlight, {:.1} uniform and \
-                 {:.1} highlight kernel evaluations per light",
-                100.0 * error.uniform.relative_rms,
-                100.0 * error.highlight.relative_rms,
-                uniform,
-                highlight,
-            ));
-            (nodes, patch, error, evaluations)
-        })
-        .collect();
+    let mut evaluators: Vec<MeasuredEvaluator> = Vec::new();
+    for spelling in &config.evaluators {
+        let evaluator = crate::evaluator::parse(spelling)?.prepare(fabric, &context)?;
+        let error = bake_pool.install(|| reference.measure(|wi, wo| evaluator.eval(wi, wo)));
+        let per_light = evaluator
+            .kernel_evaluations(&uniform_set)
+            .zip(evaluator.kernel_evaluations(&highlight_set))
+            .map(
+                |((uniform, max_uniform), (highlight, max_highlight))| EvaluationsPerLight {
+                    uniform,
+                    highlight,
+                    max: max_uniform.max(max_highlight),
+                },
+            );
+        progress(&format!(
+            "{name}: {spelling}: {:.3}% uniform, {:.3}% highlight{}",
+            100.0 * error.uniform.relative_rms,
+            100.0 * error.highlight.relative_rms,
+            per_light.map_or(String::new(), |n| format!(
+                ", {:.1} uniform and {:.1} highlight kernel evaluations per light",
+                n.uniform, n.highlight
+            )),
+        ));
+        evaluators.push(MeasuredEvaluator {
+            evaluation: Evaluation::evaluator(spelling.clone()),
+            evaluator,
+            error,
+            per_light,
+        });
+    }
     let mut tables: Vec<(Table, TableError, BakeTiming)> = Vec::new();
     for &(layout, ref resolutions) in &config.resolutions {
         for &resolution in resolutions {
@@ -127,15 +125,11 @@ fn measure_fabric(
     }
 
     let pairs = uniform_pairs(config.timing_pairs, TIMING_SEED);
-    let direct_patch = Patch::new(fabric, Integration::Direct);
-    let direct_eval = pair_by_pair(|wi, wo| direct_patch.eval(wi, wo));
-    let paper_evals: Vec<timing::BoxedEval> = papers
+    let direct_evaluator = (direct::UNIT.parse)(None)?.prepare(fabric, &context)?;
+    let direct_eval = pair_by_pair(|wi, wo| direct_evaluator.eval(wi, wo));
+    let evaluator_evals: Vec<timing::BoxedEval> = evaluators
         .iter()
-        .map(|(_, patch, _)| Box::new(pair_by_pair(|wi, wo| patch.eval(wi, wo))) as Box<_>)
-        .collect();
-    let resonant_evals: Vec<timing::BoxedEval> = resonants
-        .iter()
-        .map(|(_, patch, _, _)| Box::new(pair_by_pair(|wi, wo| patch.eval(wi, wo))) as Box<_>)
+        .map(|m| Box::new(pair_by_pair(|wi, wo| m.evaluator.eval(wi, wo))) as Box<_>)
         .collect();
     let table_evals: Vec<timing::BoxedEval> = tables
         .iter()
@@ -144,8 +138,7 @@ fn measure_fabric(
         })
         .collect();
     let evals: Vec<timing::Eval> = std::iter::once(&direct_eval as timing::Eval)
-        .chain(paper_evals.iter().map(|e| &**e as timing::Eval))
-        .chain(resonant_evals.iter().map(|e| &**e as timing::Eval))
+        .chain(evaluator_evals.iter().map(|e| &**e as timing::Eval))
         .chain(table_evals.iter().map(|e| &**e as timing::Eval))
         .collect();
     progress(&format!(
@@ -169,22 +162,17 @@ fn measure_fabric(
         bytes: None,
         bake: None,
         evaluations_per_light: None,
-        vs_paper: None,
+        vs_baseline: None,
         vs_best: None,
     };
-    let paper = papers
+    let mut points: Vec<Point> = evaluators
         .iter()
-        .map(|(samples, _, error)| (Evaluation::Paper { samples: *samples }, error));
-    let mut points: Vec<Point> = paper
         .zip(timings.by_ref())
-        .map(|((evaluation, error), timing)| point(evaluation, error, timing))
+        .map(|(m, timing)| Point {
+            evaluations_per_light: m.per_light,
+            ..point(m.evaluation.clone(), &m.error, timing)
+        })
         .collect();
-    points.extend(resonants.iter().zip(timings.by_ref()).map(
-        |((nodes, _, error, evaluations), timing)| Point {
-            evaluations_per_light: Some(*evaluations),
-            ..point(Evaluation::Resonant { nodes: *nodes }, error, timing)
-        },
-    ));
     points.extend(
         tables
             .iter()
@@ -317,15 +305,19 @@ pub fn run(
     if config.fabrics.is_empty() {
         return Err(ReportError::Config("no fabrics to report on".into()));
     }
-    if let Some(Err(e)) = config
-        .resonant_nodes
-        .iter()
-        .chain(&config.gpu_resonant_nodes)
-        .map(ResonantNodes::validate)
-        .find(Result::is_err)
-    {
-        return Err(ReportError::Config(e.to_string()));
-    }
+    // Each evaluator under the spelling it parses back to ("paper" is measured as
+    // "paper:32"), so that a point names its setting and is found by it.
+    let canonical = |spellings: &[String]| -> Result<Vec<String>, ReportError> {
+        spellings
+            .iter()
+            .map(|s| Ok(crate::evaluator::parse(s)?.spelling()))
+            .collect()
+    };
+    let config = &ReportConfig {
+        evaluators: canonical(&config.evaluators)?,
+        gpu_evaluators: canonical(&config.gpu_evaluators)?,
+        ..config.clone()
+    };
     for (layout, resolutions) in &config.resolutions {
         if let Some(&r) = resolutions
             .iter()

@@ -8,18 +8,18 @@
 //! - each layout over a range of resolutions: table size, relative RMS error (uniform,
 //!   highlight, both directions ≥ 15° above the horizon), CPU nanoseconds per lookup and
 //!   bake time;
-//! - paper mode at N samples per thread: its error and its nanoseconds per evaluation, and
-//!   the direct evaluation's cost;
-//! - the resonant quadrature ([`crate::model::ResonantNodes`]) at several node counts: its
-//!   error, its nanoseconds per evaluation, the kernel evaluations it makes per light (both
-//!   threads' tangent samples, averaged over the uniform and the highlight pairs) and its
-//!   cost against paper mode's at equal error;
+//! - every evaluator of the registry that says what the report measures of it
+//!   ([`crate::evaluator::ReportPlan`]) at each of its spellings, measured through its unit
+//!   ([`crate::evaluator::Evaluator::prepare`]): its error, its nanoseconds per evaluation,
+//!   the kernel evaluations it makes per light where it counts them (both threads' tangent
+//!   samples, averaged over the uniform and the highlight pairs), and the direct
+//!   evaluation's cost;
 //! - the speed-up of a bake from one to two threads, and whether both give the same texels;
 //! - one comparison rule for every point ([`Comparison`], [`dominance`]): every point against
-//!   paper mode (is it faster at equal error and more accurate at equal cost, equivalently
-//!   is no paper-mode point at least as fast and as accurate?), and every table against
-//!   every evaluation of the model measured (paper mode and the resonant quadrature), so
-//!   that a table is judged against the best of them.
+//!   the baseline unit (the one whose plan says so: is it faster at equal error and more
+//!   accurate at equal cost, equivalently is no baseline point at least as fast and as
+//!   accurate?), and every table against every evaluation of the model measured, so that a
+//!   table is judged against the best of them.
 //!
 //! The GPU section ([`gpu`]) records the adapter and what could be measured on it; without
 //! an adapter it says so and measures nothing.
@@ -31,6 +31,7 @@
 //! or evaluation to pick" ([`pick`]) and its error budgets are computed from the figures, so
 //! [`rerender`] rewrites the page from report.json without measuring anything.
 
+mod evaluation;
 mod files;
 mod format;
 pub mod gpu;
@@ -41,12 +42,14 @@ pub mod plots;
 mod summary;
 pub mod timing;
 
+pub use evaluation::{Evaluation, baseline_unit, default_spelling, planned_units, unit_of};
 pub use files::{JSON_FILE_NAME, read, rerender};
 pub use measure::run;
 
 use crate::bake::BakeError;
+use crate::evaluator::{EVALUATORS, EvaluatorError, EvaluatorUnit, ReportPlan};
 use crate::measure::accuracy::TableError;
-use crate::model::{Fabric, ResonantNodes};
+use crate::model::Fabric;
 use crate::table::Layout;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -75,12 +78,16 @@ pub struct ReportConfig {
     pub min_sample_seconds: f64,
     /// The layouts measured and their resolutions, ascending.
     pub resolutions: Vec<(Layout, Vec<u32>)>,
-    /// Paper-mode sample counts N (per thread).
-    pub paper_samples: Vec<u32>,
-    /// Node counts of the resonant quadrature measured (surface/volume/base per segment).
-    pub resonant_nodes: Vec<ResonantNodes>,
-    /// Resonant node counts rendered by the resonant shader in the GPU section.
-    pub gpu_resonant_nodes: Vec<ResonantNodes>,
+    /// The evaluators measured on the CPU, by spelling (`crate::evaluator::parse`), in the
+    /// order measured: every unit's [`ReportPlan`] in registry order. A report.json written
+    /// before the spellings were recorded leaves this empty, and [`read`] derives it from
+    /// the points.
+    #[serde(default)]
+    pub evaluators: Vec<String>,
+    /// The evaluators whose GPU forms the GPU section renders, by spelling (read as
+    /// `evaluators` is).
+    #[serde(default)]
+    pub gpu_evaluators: Vec<String>,
     /// Bakes per table whose median is the bake time.
     pub bake_repetitions: usize,
     /// A bake that takes longer than this (seconds) is not repeated: it bounds the run time
@@ -100,40 +107,6 @@ pub struct ReportConfig {
     pub gpu_frames: usize,
 }
 
-/// Paper-mode sample counts the full report compares against on the CPU: up to 1024, where
-/// paper mode reaches the resonant quadrature's 0.03–0.2% (satin back needs N = 1024).
-pub const PAPER_SAMPLES: [u32; 11] = [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024];
-
-/// Paper-mode sample counts of `--quick`.
-pub const QUICK_PAPER_SAMPLES: [u32; 7] = [1, 2, 4, 8, 16, 32, 64];
-
-/// Largest paper-mode N rendered in the GPU section: beyond it a frame on a software
-/// rasteriser takes seconds.
-pub const GPU_PAPER_MAX_SAMPLES: u32 = 64;
-
-/// Resonant node counts of the full report, cheapest first; 6/5/2 is
-/// [`ResonantNodes::DEFAULT`].
-pub const RESONANT_NODES: [ResonantNodes; 6] = [
-    nodes(3, 2, 2),
-    nodes(4, 3, 2),
-    nodes(5, 4, 2),
-    ResonantNodes::DEFAULT,
-    nodes(8, 6, 3),
-    nodes(10, 8, 4),
-];
-
-/// Resonant node counts of `--quick`: a coarse, a middle and the default point.
-pub const QUICK_RESONANT_NODES: [ResonantNodes; 3] =
-    [nodes(3, 2, 2), nodes(5, 3, 2), ResonantNodes::DEFAULT];
-
-const fn nodes(surface: u32, volume: u32, base: u32) -> ResonantNodes {
-    ResonantNodes {
-        surface,
-        volume,
-        base,
-    }
-}
-
 impl ReportConfig {
     /// The `--quick` preset: every fabric, fewer resolutions, pairs and repetitions (under
     /// two minutes on the 2-core development machine).
@@ -146,9 +119,8 @@ impl ReportConfig {
             timing_samples: 5,
             min_sample_seconds: 0.01,
             resolutions: report_resolutions(true),
-            paper_samples: QUICK_PAPER_SAMPLES.to_vec(),
-            resonant_nodes: QUICK_RESONANT_NODES.to_vec(),
-            gpu_resonant_nodes: vec![ResonantNodes::DEFAULT],
+            evaluators: planned_spellings(true, ReportPlan::cpu),
+            gpu_evaluators: planned_spellings(true, ReportPlan::gpu),
             bake_repetitions: 1,
             repeat_bakes_below_seconds: 0.0,
             speedup_layout: Layout::DEFAULT,
@@ -171,9 +143,8 @@ impl ReportConfig {
             timing_samples: 11,
             min_sample_seconds: 0.05,
             resolutions: report_resolutions(false),
-            paper_samples: PAPER_SAMPLES.to_vec(),
-            resonant_nodes: RESONANT_NODES.to_vec(),
-            gpu_resonant_nodes: vec![nodes(3, 2, 2), ResonantNodes::DEFAULT],
+            evaluators: planned_spellings(false, ReportPlan::cpu),
+            gpu_evaluators: planned_spellings(false, ReportPlan::gpu),
             bake_repetitions: 3,
             repeat_bakes_below_seconds: 20.0,
             speedup_layout: Layout::DEFAULT,
@@ -194,56 +165,20 @@ fn report_resolutions(quick: bool) -> Vec<(Layout, Vec<u32>)> {
         .collect()
 }
 
-/// What a point of the report evaluates F by: the model itself at one setting of an
-/// integration rule, or a baked table looked up. The CPU points, the GPU points, the
-/// comparisons, the picks and the plots all name what they measured by this one type.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "family", rename_all = "snake_case")]
-pub enum Evaluation {
-    /// Paper mode at N samples per thread.
-    Paper { samples: u32 },
-    /// The resonant quadrature at its node counts.
-    Resonant { nodes: ResonantNodes },
-    /// A table of this layout and resolution.
-    Table { layout: Layout, resolution: u32 },
+/// The spellings every unit's [`ReportPlan`] names for a run (`quick` or full), in
+/// registry order; `which` picks the CPU or the GPU list.
+fn planned_spellings(
+    quick: bool,
+    which: fn(&ReportPlan, bool) -> &'static [&'static str],
+) -> Vec<String> {
+    planned_units()
+        .flat_map(|(_, plan)| which(&plan, quick).iter().map(|s| s.to_string()))
+        .collect()
 }
 
-impl Evaluation {
-    /// Whether this evaluates the model itself (no bake): the points a table is judged
-    /// against.
-    pub fn is_model(&self) -> bool {
-        !matches!(self, Evaluation::Table { .. })
-    }
-
-    /// Whether this is paper mode, the baseline every other point is compared with.
-    pub fn is_paper(&self) -> bool {
-        matches!(self, Evaluation::Paper { .. })
-    }
-
-    /// The spelling of its evaluator on every command (`paper:32`, `resonant:6/5/2`,
-    /// `table`); a table's file is the caller's to give.
-    pub fn spelling(&self) -> String {
-        match self {
-            Evaluation::Paper { samples } => format!("paper:{samples}"),
-            Evaluation::Resonant { nodes } => format!("resonant:{nodes}"),
-            Evaluation::Table { .. } => "table".into(),
-        }
-    }
-}
-
-/// How REPORT.md names an evaluation: "paper N = 32", "resonant 6/5/2", "thread_frame 48".
-impl std::fmt::Display for Evaluation {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Evaluation::Paper { samples } => write!(f, "paper N = {samples}"),
-            Evaluation::Resonant { nodes } => write!(f, "resonant {nodes}"),
-            Evaluation::Table { layout, resolution } => write!(f, "{layout} {resolution}"),
-        }
-    }
-}
-
-/// Mean kernel evaluations per light of the resonant quadrature: the tangent samples whose
-/// terms both threads computed for one (wi, wo), averaged over a validation set.
+/// Mean kernel evaluations per light of an evaluator that places its tangent samples per
+/// pair ([`crate::evaluator::FabricEvaluator::kernel_evaluations`]): the tangent samples
+/// whose terms both threads computed for one (wi, wo), averaged over a validation set.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 pub struct EvaluationsPerLight {
     pub uniform: f64,
@@ -259,7 +194,8 @@ pub struct Point {
     pub evaluation: Evaluation,
     #[serde(deserialize_with = "files::table_error")]
     pub error: TableError,
-    /// One thread over the timing pairs: `Patch::eval` pair by pair for the model, and
+    /// One thread over the timing pairs: `FabricEvaluator::eval` pair by pair for an
+    /// evaluator, and
     /// `Table::lookup_batch` for a table (the fast CPU path, eight pairs' coordinates at a
     /// time, RGB with the albedos applied, directions converted from f64 to f32 inside the
     /// timed call).
@@ -270,15 +206,16 @@ pub struct Point {
     /// A table's bake on all worker threads of the report's pool.
     #[serde(default)]
     pub bake: Option<BakeTiming>,
-    /// The resonant quadrature's kernel evaluations per light on the error sets.
+    /// The kernel evaluations per light on the error sets, of an evaluator that counts them.
     #[serde(default)]
     pub evaluations_per_light: Option<EvaluationsPerLight>,
-    /// Against paper mode at every N measured (every point but paper mode's own).
-    /// Derived from the figures above by [`FabricReport::judge`], also when read back.
+    /// Against the baseline unit at every setting measured (every point but the
+    /// baseline's own). Derived from the figures above by [`FabricReport::judge`], also
+    /// when read back.
     #[serde(default, skip_deserializing)]
-    pub vs_paper: Option<Comparison>,
-    /// Against every evaluation of the model measured, paper mode and resonant (the
-    /// tables). Derived as `vs_paper` is.
+    pub vs_baseline: Option<Comparison>,
+    /// Against every evaluation of the model measured, every evaluator's points (the
+    /// tables). Derived as `vs_baseline` is.
     #[serde(default, skip_deserializing)]
     pub vs_best: Option<Comparison>,
 }
@@ -336,7 +273,7 @@ impl Comparison {
         let figures: Vec<(f64, f64)> = others.iter().map(|o| (o.cost(), o.worst_error())).collect();
         let (equal_error, equal_cost, dominated) = dominance(error, cost, &figures);
         let at = |i: usize| Match {
-            evaluation: others[i].evaluation,
+            evaluation: others[i].evaluation.clone(),
             ns_per_eval: figures[i].0,
             error: figures[i].1,
         };
@@ -370,8 +307,8 @@ pub struct FabricReport {
     pub name: String,
     /// The direct evaluation's cost (its error is 0 by definition).
     pub direct: EvalTiming,
-    /// Every evaluation measured: paper mode at each N, the resonant quadrature at each
-    /// node count, then every table, in the configuration's order.
+    /// Every evaluation measured: each evaluator's spellings in the configuration's order,
+    /// then every table.
     pub points: Vec<Point>,
     pub speedup: Speedup,
     /// Wall-clock seconds this fabric's measurements took.
@@ -379,16 +316,19 @@ pub struct FabricReport {
 }
 
 impl FabricReport {
-    /// The points of paper mode.
-    pub fn paper(&self) -> impl Iterator<Item = &Point> {
-        self.points.iter().filter(|p| p.evaluation.is_paper())
+    /// The points of the baseline unit.
+    pub fn baseline(&self) -> impl Iterator<Item = &Point> {
+        self.points.iter().filter(|p| p.evaluation.is_baseline())
     }
 
-    /// The points of the resonant quadrature.
-    pub fn resonant(&self) -> impl Iterator<Item = &Point> {
-        self.points
-            .iter()
-            .filter(|p| matches!(p.evaluation, Evaluation::Resonant { .. }))
+    /// The points of `unit`.
+    pub fn of_unit<'a>(&'a self, unit: &'a EvaluatorUnit) -> impl Iterator<Item = &'a Point> {
+        self.points.iter().filter(|p| p.evaluation.is_of(unit))
+    }
+
+    /// The points of every evaluator (no table).
+    pub fn model(&self) -> impl Iterator<Item = &Point> {
+        self.points.iter().filter(|p| p.evaluation.is_model())
     }
 
     /// The tables.
@@ -396,28 +336,36 @@ impl FabricReport {
         self.points.iter().filter(|p| !p.evaluation.is_model())
     }
 
-    /// Fills every point's comparisons from the figures: each point but paper mode's
-    /// against paper mode, and each table against every evaluation of the model.
+    /// The point of `unit` its figures are quoted for: its default setting's when
+    /// measured, else its most accurate.
+    pub fn headline<'a>(&'a self, unit: &'a EvaluatorUnit) -> Option<&'a Point> {
+        let default = default_spelling(unit).map(Evaluation::evaluator);
+        self.of_unit(unit)
+            .find(|p| Some(&p.evaluation) == default.as_ref())
+            .or_else(|| {
+                self.of_unit(unit)
+                    .min_by(|a, b| a.worst_error().total_cmp(&b.worst_error()))
+            })
+    }
+
+    /// Fills every point's comparisons from the figures: each point but the baseline's
+    /// against the baseline, and each table against every evaluation of the model.
     pub fn judge(&mut self) {
-        let paper: Vec<&Point> = self.paper().collect();
-        let model: Vec<&Point> = self
-            .points
-            .iter()
-            .filter(|p| p.evaluation.is_model())
-            .collect();
+        let baseline: Vec<&Point> = self.baseline().collect();
+        let model: Vec<&Point> = self.model().collect();
         let judged: Vec<(Option<Comparison>, Option<Comparison>)> = self
             .points
             .iter()
             .map(|point| {
-                let e = point.evaluation;
+                let e = &point.evaluation;
                 (
-                    (!e.is_paper()).then(|| Comparison::of(point, &paper)),
+                    (!e.is_baseline()).then(|| Comparison::of(point, &baseline)),
                     (!e.is_model()).then(|| Comparison::of(point, &model)),
                 )
             })
             .collect();
-        for (point, (vs_paper, vs_best)) in self.points.iter_mut().zip(judged) {
-            point.vs_paper = vs_paper;
+        for (point, (vs_baseline, vs_best)) in self.points.iter_mut().zip(judged) {
+            point.vs_baseline = vs_baseline;
             point.vs_best = vs_best;
         }
     }
@@ -460,6 +408,35 @@ pub struct Report {
     pub files: Vec<String>,
 }
 
+impl Report {
+    /// The registered units with points in this report, in registry order (the baseline
+    /// among them).
+    pub fn units(&self) -> Vec<&'static EvaluatorUnit> {
+        let measured = |unit: &EvaluatorUnit| {
+            let cpu = self
+                .fabrics
+                .iter()
+                .any(|f| f.of_unit(unit).next().is_some());
+            let gpu = self
+                .gpu
+                .fabrics
+                .iter()
+                .any(|f| f.points.iter().any(|p| p.evaluation.is_of(unit)));
+            cpu || gpu
+        };
+        EVALUATORS.iter().filter(|unit| measured(unit)).collect()
+    }
+
+    /// The units with points in this report other than the baseline, in registry order.
+    pub fn other_units(&self) -> Vec<&'static EvaluatorUnit> {
+        let baseline = baseline_unit().map(|unit| unit.name);
+        self.units()
+            .into_iter()
+            .filter(|unit| Some(unit.name) != baseline)
+            .collect()
+    }
+}
+
 /// Why a report failed.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
@@ -482,6 +459,8 @@ pub enum ReportError {
     },
     #[error("plot {file}: {message}")]
     Plot { file: String, message: String },
+    #[error(transparent)]
+    Evaluator(#[from] EvaluatorError),
     #[error("{0}")]
     Config(String),
 }

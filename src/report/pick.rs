@@ -5,8 +5,8 @@
 //! points within the need's budget (the constants below), so a new run, or a re-render of
 //! report.json ([`super::rerender`]), rewrites it with the figures it rests on.
 
-use super::format::{num, pct, size};
-use super::{Evaluation, FabricReport, Report, plots};
+use super::format::{num, pct, size, unit_anchor, unit_heading, unit_names};
+use super::{Evaluation, FabricReport, Report, planned_units, plots};
 use std::fmt::{self, Write};
 
 /// The section's heading; its GitHub anchor is [`ANCHOR`].
@@ -27,9 +27,7 @@ pub const SMALL_TABLE_ERROR: f64 = 0.02;
 pub const CPU_ERROR: f64 = 0.01;
 
 /// Largest error of an evaluation of the model without a bake at reference quality:
-/// 0.25%, the bound [`ResonantNodes::DEFAULT`] was chosen to meet.
-///
-/// [`ResonantNodes::DEFAULT`]: crate::model::ResonantNodes::DEFAULT
+/// 0.25%, the bound the default node counts of the quadrature evaluator were chosen to meet.
 pub const NO_BAKE_ERROR: f64 = 0.0025;
 
 /// What a reader needs F for; one row of the section each.
@@ -39,10 +37,10 @@ pub enum Need {
     RealTimeImage,
     /// The smallest table within [`SMALL_TABLE_ERROR`].
     SmallestTable,
-    /// The cheapest CPU evaluation of any kind (table, paper mode, resonant, direct)
+    /// The cheapest CPU evaluation of any kind (table, any evaluator measured, direct)
     /// within [`CPU_ERROR`].
     FastestCpu,
-    /// The cheapest evaluation of the model itself (paper mode or resonant) within
+    /// The cheapest evaluation of the model itself (any evaluator measured) within
     /// [`NO_BAKE_ERROR`].
     NoBake,
     /// The direct evaluation, every error's reference.
@@ -97,26 +95,27 @@ impl Need {
     /// How the pick is made.
     fn rule(self) -> String {
         let b = self.budget().map_or(String::new(), budget);
+        let units: Vec<_> = planned_units().map(|(unit, _)| unit).collect();
+        let evaluators = unit_names(&units);
         match self {
             Need::RealTimeImage => format!(
-                "the fastest GPU frame (lookup, paper-mode or resonant shader) with an image \
-                 error ≤ {b}"
+                "the fastest GPU frame (the lookup shader or a shader of {evaluators}) with an \
+                 image error ≤ {b}"
             ),
             Need::SmallestTable => format!("the smallest table (any layout) with an error ≤ {b}"),
             Need::FastestCpu => format!(
-                "the cheapest CPU evaluation (table lookup, paper mode, resonant or direct) \
+                "the cheapest CPU evaluation (a table lookup, direct, or any of {evaluators}) \
                  with an error ≤ {b}"
             ),
-            Need::NoBake => format!(
-                "the cheapest evaluation of the model (paper mode or resonant) with an error \
-                 ≤ {b}"
-            ),
+            Need::NoBake => {
+                format!("the cheapest evaluation of the model ({evaluators}) with an error ≤ {b}")
+            }
             Need::GroundTruth => "the direct evaluation, every error's reference".into(),
         }
     }
 
-    /// The figure and the section the pick rests on (links within REPORT.md's folder).
-    fn rests_on(self) -> String {
+    /// The figure and the sections the pick rests on (links within REPORT.md's folder).
+    fn rests_on(self, report: &Report) -> String {
         let figure = |file: &str| format!("[{file}]({file})");
         match self {
             Need::RealTimeImage => format!("{}, [GPU](#gpu)", figure(plots::GPU_COST)),
@@ -128,10 +127,16 @@ impl Need {
                 "{}, [Error budgets](#error-budgets)",
                 figure(plots::ERROR_VS_COST)
             ),
-            Need::NoBake => format!(
-                "{}, [Resonant quadrature](#resonant-quadrature)",
-                figure(plots::ERROR_VS_COST)
-            ),
+            Need::NoBake => {
+                let sections = report
+                    .other_units()
+                    .into_iter()
+                    .map(|unit| format!("[{}](#{})", unit_heading(unit), unit_anchor(unit)));
+                std::iter::once(figure(plots::ERROR_VS_COST))
+                    .chain(sections)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            }
             Need::GroundTruth => {
                 "[Error against CPU cost](#error-against-cpu-cost) (its rows \"direct\")".into()
             }
@@ -150,10 +155,9 @@ fn budget(x: f64) -> String {
 pub enum Choice {
     /// The direct evaluation on the CPU.
     Direct,
-    /// A point measured on the CPU: a table looked up, or the model by paper mode or the
-    /// resonant quadrature.
+    /// A point measured on the CPU: a table looked up, or an evaluator.
     Cpu(Evaluation),
-    /// A shader of the GPU section: the lookup of a table, or the model in the shader.
+    /// A shader of the GPU section: the lookup of a table, or an evaluator's GPU form.
     Gpu(Evaluation),
 }
 
@@ -163,10 +167,7 @@ impl fmt::Display for Choice {
             Choice::Direct => f.write_str("direct"),
             Choice::Cpu(evaluation) => write!(f, "{evaluation}"),
             Choice::Gpu(table @ Evaluation::Table { .. }) => write!(f, "lookup shader, {table}"),
-            Choice::Gpu(Evaluation::Paper { samples }) => {
-                write!(f, "paper-mode shader N = {samples}")
-            }
-            Choice::Gpu(Evaluation::Resonant { nodes }) => write!(f, "resonant shader {nodes}"),
+            Choice::Gpu(evaluator) => write!(f, "{evaluator} shader"),
         }
     }
 }
@@ -222,7 +223,7 @@ fn cpu_points(f: &FabricReport) -> impl Iterator<Item = Pick> + '_ {
     let direct = Pick::cpu(Choice::Direct, 0.0, f.direct.ns_per_eval);
     let points = f.points.iter().map(|p| Pick {
         bytes: p.bytes,
-        ..Pick::cpu(Choice::Cpu(p.evaluation), p.worst_error(), p.cost())
+        ..Pick::cpu(Choice::Cpu(p.evaluation.clone()), p.worst_error(), p.cost())
     });
     std::iter::once(direct).chain(points)
 }
@@ -236,7 +237,7 @@ fn gpu_points(report: &Report, name: &str) -> Option<Vec<Pick>> {
         .find(|f| f.name == name)
         .filter(|_| g.measured)?;
     let points = f.points.iter().map(|p| Pick {
-        choice: Choice::Gpu(p.evaluation),
+        choice: Choice::Gpu(p.evaluation.clone()),
         error: p.image_relative_l2,
         ns_per_eval: None,
         ms_per_frame: Some(p.ms_per_frame),
@@ -370,7 +371,7 @@ fn row(report: &Report, need: Need, picks: &[Option<Pick>]) -> String {
         "| {} | {} | {choice} | {gives} | {} |\n",
         need.title(),
         need.rule(),
-        need.rests_on()
+        need.rests_on(report)
     )
 }
 
@@ -393,7 +394,7 @@ pub fn section(report: &Report, md: &mut String) {
          uniform and highlight relative RMS errors against the direct evaluation on the CPU; \
          on the GPU, the image error against the CPU reference render. Each pick is the \
          extreme of the points measured below within the need's budget, so it holds for the \
-         layouts, resolutions, N and node counts of this run; the last column names the \
+         layouts, resolutions and evaluator settings of this run; the last column names the \
          figure and the section it rests on, and [Error budgets](#error-budgets) gives the \
          same choice at other budgets.\n"
     );

@@ -1,16 +1,17 @@
-//! REPORT.md's summary: where table lookup beats paper mode and the best evaluation, per
-//! error budget the cheapest table, paper-mode N and resonant node counts, and every table's
-//! verdict.
+//! REPORT.md's summary: where table lookup beats the baseline unit and the best evaluation,
+//! per error budget the cheapest table and the cheapest setting of every evaluator, and
+//! every table's verdict.
 
-use super::format::{num, paper_n, pct, ratio, size};
+use super::format::{NONE_UP_TO_THE_LARGEST, baseline_name, num, pct, ratio, size, unit_names};
 use super::{Comparison, Evaluation, FabricReport, Point, Report};
 use crate::table::Layout;
 use std::fmt::Write;
 
-/// A table's two comparisons, against paper mode and against every evaluation of the model.
+/// A table's two comparisons, against the baseline and against every evaluation of the
+/// model.
 fn comparisons(t: &Point) -> (&Comparison, &Comparison) {
-    match (&t.vs_paper, &t.vs_best) {
-        (Some(paper), Some(best)) => (paper, best),
+    match (&t.vs_baseline, &t.vs_best) {
+        (Some(baseline), Some(best)) => (baseline, best),
         _ => unreachable!("FabricReport::judge compares every table with both sets"),
     }
 }
@@ -18,14 +19,14 @@ fn comparisons(t: &Point) -> (&Comparison, &Comparison) {
 fn verdict_row(fabric: &str, t: &Point) -> String {
     let (v, best) = comparisons(t);
     let equal_error = v.equal_error.as_ref().map_or_else(
-        || "none up to the largest N".to_string(),
-        |p| format!("{} ({} ns)", paper_n(p.evaluation), num(p.ns_per_eval)),
+        || NONE_UP_TO_THE_LARGEST.to_string(),
+        |p| format!("{} ({} ns)", p.evaluation, num(p.ns_per_eval)),
     );
     let equal_cost = v.equal_cost.as_ref().map_or_else(
         || "none this cheap".to_string(),
-        |p| format!("{} ({})", paper_n(p.evaluation), pct(p.error)),
+        |p| format!("{} ({})", p.evaluation, pct(p.error)),
     );
-    let outcome = if v.wins { "**table**" } else { "paper mode" };
+    let outcome = if v.wins { "**table**" } else { baseline_name() };
     let best_equal_error = best.equal_error.as_ref().map_or_else(
         || "none measured".to_string(),
         |e| format!("{} ({} ns)", e.evaluation, num(e.ns_per_eval)),
@@ -59,9 +60,10 @@ fn table_of(t: &Point) -> (Layout, u32) {
     }
 }
 
-/// The summary: where tables beat paper mode and the best evaluation, the error budgets,
+/// The summary: where tables beat the baseline and the best evaluation, the error budgets,
 /// and every table's verdict.
 pub(super) fn section(report: &Report, md: &mut String) {
+    let base = baseline_name();
     let all: Vec<(&FabricReport, &Point)> = report
         .fabrics
         .iter()
@@ -72,7 +74,13 @@ pub(super) fn section(report: &Report, md: &mut String) {
             .filter(move |(_, t)| table_of(t).0 == layout)
             .map(|&(f, t)| (f, t, comparisons(t)))
     };
-    let _ = writeln!(md, "## Summary: where table lookup beats paper mode\n");
+    let _ = writeln!(md, "## {SUMMARY_HEADING}\n");
+    let _ = writeln!(
+        md,
+        "The baseline is the {base} evaluator ({}); the evaluators measured are {}.\n",
+        baseline_summary(),
+        unit_names(&report.units())
+    );
     for &layout in Layout::ALL {
         let of = of_layout(layout).count();
         let won = of_layout(layout).filter(|(_, _, (v, _))| v.wins).count();
@@ -82,13 +90,13 @@ pub(super) fn section(report: &Report, md: &mut String) {
             .collect();
         let _ = writeln!(
             md,
-            "- **{layout}**: the table beats paper mode in {won} of {of} (fabric, resolution) \
+            "- **{layout}**: the table beats {base} in {won} of {of} (fabric, resolution) \
              cases{}.",
             if losers.is_empty() {
                 String::new()
             } else {
                 format!(
-                    "; paper mode is at least as fast and as accurate for {}",
+                    "; {base} is at least as fast and as accurate for {}",
                     losers.join(", ")
                 )
             }
@@ -109,8 +117,9 @@ pub(super) fn section(report: &Report, md: &mut String) {
             .collect();
         let _ = writeln!(
             md,
-            "- **{layout} against the best evaluation** (paper mode or resonant, \
-             vs resonant): the table wins in {won} of {of} cases{}.",
+            "- **{layout} against the best evaluation** (any of {}, vs best): the table wins \
+             in {won} of {of} cases{}.",
+            unit_names(&report.units()),
             if losers.is_empty() {
                 String::new()
             } else {
@@ -131,24 +140,24 @@ pub(super) fn section(report: &Report, md: &mut String) {
     let _ = writeln!(
         md,
         "\n\"Error\" is the worse of the uniform and highlight relative RMS errors; \"cost\" is \
-         CPU nanoseconds per evaluation on one thread. *Equal error*: the cheapest paper-mode N \
-         at least as accurate as the table, and how many times slower it is than the lookup. \
-         *Equal cost*: the most accurate paper-mode N no slower than the lookup, and how many \
-         times larger its error is. The table wins when no paper-mode point is both at least \
-         as accurate and at least as fast, which is the same as winning on both comparisons. \
-         *vs resonant*: the same judgement against every evaluation of the model measured \
-         (paper mode at each N and the resonant quadrature at each node count): the cheapest \
-         evaluation at least as accurate as the table, how many times slower it is than the \
-         lookup, and the winner (the table, or the evaluation that is at least as fast and as \
-         accurate).\n"
+         CPU nanoseconds per evaluation on one thread. *Equal error*: the cheapest setting of \
+         {base} at least as accurate as the table, and how many times slower it is than the \
+         lookup. *Equal cost*: the most accurate setting of {base} no slower than the lookup, \
+         and how many times larger its error is. The table wins when no point of {base} is \
+         both at least as accurate and at least as fast, which is the same as winning on both \
+         comparisons. *vs best*: the same judgement against every evaluation of the model \
+         measured (every setting of {}): the cheapest evaluation at least as accurate as the \
+         table, how many times slower it is than the lookup, and the winner (the table, or \
+         the evaluation that is at least as fast and as accurate).\n",
+        unit_names(&report.units())
     );
     budgets(report, md);
     let _ = writeln!(md, "### {EVERY_TABLE_HEADING}\n");
     let _ = writeln!(
         md,
-        "| fabric | table | size | error | ns/lookup | paper at equal error | table faster by \
-         | paper at equal cost | table more accurate by | winner | best evaluation at equal \
-         error | table faster by | winner vs resonant |"
+        "| fabric | table | size | error | ns/lookup | {base} at equal error | table faster by \
+         | {base} at equal cost | table more accurate by | winner | best evaluation at equal \
+         error | table faster by | winner vs best |"
     );
     let _ = writeln!(
         md,
@@ -160,11 +169,19 @@ pub(super) fn section(report: &Report, md: &mut String) {
     md.push('\n');
 }
 
+/// The summary's heading; its anchor is `#summary-where-table-lookup-beats-the-baseline`.
+pub const SUMMARY_HEADING: &str = "Summary: where table lookup beats the baseline";
+
 /// The heading of the error budget table; its anchor is `#error-budgets`.
 pub const BUDGETS_HEADING: &str = "Error budgets";
 
-/// The heading of every table's verdict; its anchor is `#every-table-against-paper-mode`.
-pub const EVERY_TABLE_HEADING: &str = "Every table against paper mode";
+/// The heading of every table's verdict; its anchor is `#every-table-against-the-baseline`.
+pub const EVERY_TABLE_HEADING: &str = "Every table against the baseline";
+
+/// What the baseline unit evaluates F by, from the registry.
+fn baseline_summary() -> &'static str {
+    super::baseline_unit().map_or("none registered", |unit| unit.summary)
+}
 
 /// Error budgets of the summary table (worse of uniform and highlight relative RMS).
 const BUDGETS: [f64; 6] = [0.01, 0.02, 0.05, 0.1, 0.2, 0.5];
@@ -176,13 +193,20 @@ fn cheapest<'a>(points: impl Iterator<Item = &'a Point>, budget: f64) -> Option<
         .min_by(|a, b| a.cost().total_cmp(&b.cost()))
 }
 
-/// One line per error budget: for how many fabrics the table or paper mode is the faster
+/// One line per error budget: for how many fabrics the table or the baseline is the faster
 /// way to meet it, or the only one.
 fn budget_bullets(report: &Report, md: &mut String) {
+    let base = baseline_name();
+    let largest = report
+        .config
+        .evaluators
+        .iter()
+        .rfind(|s| Evaluation::evaluator(s.as_str()).is_baseline())
+        .map_or(String::new(), |s| format!("up to {s}; "));
     for budget in BUDGETS {
         let mut counts = [0usize; 5];
         for f in &report.fabrics {
-            let k = match (cheapest(f.tables(), budget), cheapest(f.paper(), budget)) {
+            let k = match (cheapest(f.tables(), budget), cheapest(f.baseline(), budget)) {
                 (Some(t), Some(p)) if t.cost() <= p.cost() => 0,
                 (Some(_), Some(_)) => 1,
                 (Some(_), None) => 2,
@@ -191,15 +215,14 @@ fn budget_bullets(report: &Report, md: &mut String) {
             };
             counts[k] += 1;
         }
-        let only_paper = format!(
-            "only paper mode reaches it (N ≤ {}; no table measured does)",
-            report.config.paper_samples.iter().max().unwrap_or(&0)
-        );
+        let faster = format!("a table is faster than {base}");
+        let slower = format!("{base} is faster than any table");
+        let only_baseline = format!("only {base} reaches it ({largest}no table measured does)");
         let labels = [
-            "a table is faster than paper mode",
-            "paper mode is faster than any table",
+            faster.as_str(),
+            slower.as_str(),
             "only a table reaches it",
-            &only_paper,
+            &only_baseline,
             "neither reaches it",
         ];
         let parts: Vec<String> = counts
@@ -217,61 +240,68 @@ fn budget_bullets(report: &Report, md: &mut String) {
     }
 }
 
-/// For each fabric and error budget, the cheapest table and the cheapest paper-mode N that
-/// meet it, and which is faster.
+/// For each fabric and error budget, the cheapest table and the cheapest setting of every
+/// evaluator that meet it, and which of the table and the baseline is faster.
 fn budgets(report: &Report, md: &mut String) {
+    let base = baseline_name();
+    let others = report.other_units();
     let _ = writeln!(md, "### {BUDGETS_HEADING}\n");
     let _ = writeln!(
         md,
         "**By error budget**: the cheapest table (any layout and resolution measured) and the \
-         cheapest paper-mode N whose error is within the budget, their CPU cost per \
-         evaluation, and how many times faster the faster one is; then the cheapest resonant \
-         node counts within the budget and how the table compares with the faster of paper \
-         mode and the resonant quadrature (vs resonant).\n"
+         cheapest setting of {base} whose error is within the budget, their CPU cost per \
+         evaluation, and how many times faster the faster one is; then the cheapest setting of \
+         every other evaluator within the budget and how the table compares with the fastest \
+         evaluation of the model (vs best).\n"
+    );
+    let other_columns: String = others
+        .iter()
+        .map(|unit| format!(" cheapest {} |", unit.name))
+        .collect();
+    let _ = writeln!(
+        md,
+        "| fabric | budget | cheapest table | cheapest {base} | faster |{other_columns} table vs \
+         best evaluation |"
     );
     let _ = writeln!(
         md,
-        "| fabric | budget | cheapest table | cheapest paper mode | faster | cheapest resonant \
-         | table vs best evaluation |"
+        "|---|---:|---|---|---|{}---|",
+        "---|".repeat(others.len())
     );
-    let _ = writeln!(md, "|---|---:|---|---|---|---|---|");
     for f in &report.fabrics {
         for budget in BUDGETS {
-            let (table, paper) = (cheapest(f.tables(), budget), cheapest(f.paper(), budget));
-            let cell = |p: &Point, name: String| {
-                format!("{name} ({}, {} ns)", pct(p.worst_error()), num(p.cost()))
+            let (table, baseline) = (cheapest(f.tables(), budget), cheapest(f.baseline(), budget));
+            let cell = |p: &Point| {
+                format!(
+                    "{} ({}, {} ns)",
+                    p.evaluation,
+                    pct(p.worst_error()),
+                    num(p.cost())
+                )
             };
-            let table_cell = table.map_or("none measured".to_string(), |t| {
-                cell(t, t.evaluation.to_string())
-            });
-            let paper_cell = paper.map_or("none up to the largest N".to_string(), |p| {
-                cell(p, paper_n(p.evaluation))
-            });
-            let faster = match (table, paper) {
+            let table_cell = table.map_or("none measured".to_string(), cell);
+            let baseline_cell = baseline.map_or(NONE_UP_TO_THE_LARGEST.to_string(), cell);
+            let faster = match (table, baseline) {
                 (Some(t), Some(p)) => {
                     let r = p.cost() / t.cost();
                     if r >= 1.0 {
                         format!("**table**, {}", ratio(Some(r)))
                     } else {
-                        format!("paper mode, {}", ratio(Some(1.0 / r)))
+                        format!("{base}, {}", ratio(Some(1.0 / r)))
                     }
                 }
                 (Some(_), None) => "**table** (only)".into(),
-                (None, Some(_)) => "paper mode (only)".into(),
+                (None, Some(_)) => format!("{base} (only)"),
                 (None, None) => "–".into(),
             };
-            let resonant = cheapest(f.resonant(), budget);
-            let resonant_cell =
-                resonant.map_or("none measured".to_string(), |r| match r.evaluation {
-                    Evaluation::Resonant { nodes } => cell(r, nodes.to_string()),
-                    other => cell(r, other.to_string()),
-                });
-            // The cheaper of paper mode and resonant within the budget.
-            let best = [paper, resonant]
-                .into_iter()
-                .flatten()
-                .map(|p| (p.evaluation.to_string(), p.cost()))
-                .min_by(|a, b| a.1.total_cmp(&b.1));
+            let other_cells: String = others
+                .iter()
+                .map(|unit| {
+                    let cheapest = cheapest(f.of_unit(unit), budget);
+                    format!(" {} |", cheapest.map_or("none measured".to_string(), cell))
+                })
+                .collect();
+            let best = cheapest(f.model(), budget).map(|p| (p.evaluation.to_string(), p.cost()));
             let versus = match (table, best) {
                 (Some(t), Some((label, ns))) => {
                     let r = ns / t.cost();
@@ -287,7 +317,7 @@ fn budgets(report: &Report, md: &mut String) {
             };
             let _ = writeln!(
                 md,
-                "| {} | {:.0}% | {table_cell} | {paper_cell} | {faster} | {resonant_cell} | \
+                "| {} | {:.0}% | {table_cell} | {baseline_cell} | {faster} |{other_cells} \
                  {versus} |",
                 f.name,
                 100.0 * budget

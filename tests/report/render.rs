@@ -125,6 +125,51 @@ fn rerender_fails_on_a_missing_or_damaged_report_json() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Rewrites every evaluator point of `value` in the form reports had before points named
+/// their evaluator by spelling: one family per integration rule.
+fn to_earlier_point_forms(value: &mut Value) {
+    match value {
+        Value::Object(map) if map.get("family").and_then(Value::as_str) == Some("evaluator") => {
+            let spelling = map["spelling"].as_str().unwrap().to_string();
+            *value = match spelling.split_once(':').unwrap() {
+                ("paper", n) => {
+                    serde_json::json!({"family": "paper", "samples": n.parse::<u32>().unwrap()})
+                }
+                ("resonant", nodes) => {
+                    let n: Vec<u32> = nodes.split('/').map(|x| x.parse().unwrap()).collect();
+                    serde_json::json!({"family": "resonant",
+                        "nodes": {"surface": n[0], "volume": n[1], "base": n[2]}})
+                }
+                _ => panic!("no earlier form of {spelling}"),
+            };
+        }
+        Value::Object(map) => map.values_mut().for_each(to_earlier_point_forms),
+        Value::Array(items) => items.iter_mut().for_each(to_earlier_point_forms),
+        _ => {}
+    }
+}
+
+#[test]
+fn a_report_json_in_the_earlier_point_forms_renders_the_same_page() {
+    // A report.json written before the configuration listed its evaluators' spellings and
+    // before points named their evaluator by spelling still reads, to the same page.
+    let mut json = committed_json();
+    to_earlier_point_forms(&mut json);
+    let config = json["config"].as_object_mut().unwrap();
+    config.remove("evaluators");
+    config.remove("gpu_evaluators");
+    assert!(!json.to_string().contains("\"evaluator\""));
+    let dir = scratch("earlier");
+    std::fs::write(dir.join(report::JSON_FILE_NAME), json.to_string()).unwrap();
+    let report = report::read(&dir).expect("an earlier report.json reads");
+    assert_same_text(
+        &markdown::render(&report),
+        &committed_md(),
+        "REPORT.md rendered from the earlier forms",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// The lines of the section under `## {heading}`, up to the next `## ` heading.
 fn section<'a>(md: &'a str, heading: &str) -> Vec<&'a str> {
     let start = format!("## {heading}");
@@ -149,7 +194,7 @@ use anchor_of::github_anchor as anchor;
 #[derive(Debug)]
 struct Candidate {
     name: String,
-    /// "cpu table", "cpu model" (paper mode or resonant), "direct" or "gpu".
+    /// "cpu table", "cpu model" (any registered evaluator), "direct" or "gpu".
     kind: &'static str,
     error: f64,
     /// ns per evaluation on the CPU, ms per frame on the GPU.
@@ -165,9 +210,9 @@ fn worst(error: &Value) -> f64 {
     number(&error["uniform"]["relative_rms"]).max(number(&error["highlight"]["relative_rms"]))
 }
 
-/// Node counts as REPORT.md writes them, "6/5/2".
-fn nodes(n: &Value) -> String {
-    format!("{}/{}/{}", n["surface"], n["volume"], n["base"])
+/// An evaluator's spelling, as REPORT.md names it ("paper:32").
+fn spelling(evaluation: &Value) -> String {
+    evaluation["spelling"].as_str().unwrap().to_string()
 }
 
 /// A table as REPORT.md names it, "thread_frame 48".
@@ -197,8 +242,7 @@ fn candidates(json: &Value, name: &str) -> Vec<Candidate> {
     for p in fabric["points"].as_array().unwrap() {
         let e = &p["evaluation"];
         let (name, kind) = match e["family"].as_str().unwrap() {
-            "paper" => (format!("paper N = {}", e["samples"]), "cpu model"),
-            "resonant" => (format!("resonant {}", nodes(&e["nodes"])), "cpu model"),
+            "evaluator" => (spelling(e), "cpu model"),
             "table" => (table(e), "cpu table"),
             other => panic!("unknown family {other:?}"),
         };
@@ -221,8 +265,7 @@ fn candidates(json: &Value, name: &str) -> Vec<Candidate> {
         for p in f["points"].as_array().unwrap() {
             let e = &p["evaluation"];
             let name = match e["family"].as_str().unwrap() {
-                "paper" => format!("paper-mode shader N = {}", e["samples"]),
-                "resonant" => format!("resonant shader {}", nodes(&e["nodes"])),
+                "evaluator" => format!("{} shader", spelling(e)),
                 _ => format!("lookup shader, {}", table(e)),
             };
             out.push(Candidate {

@@ -2,9 +2,9 @@
 //! the report documents with finite figures, and the plots are valid PNGs with drawn curves.
 //! No timing is asserted (the machine's speed is not under test).
 
+use clothbake::evaluator::parse;
 use clothbake::formats::fabric_toml::FabricSet;
-use clothbake::model::ResonantNodes;
-use clothbake::report::{ReportConfig, run};
+use clothbake::report::{ReportConfig, planned_units, run};
 use clothbake::table::Layout;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -33,15 +33,11 @@ fn tiny_config() -> ReportConfig {
             (Layout::THREAD_FRAME, vec![8, 12]),
             (Layout::GRID4D, vec![4, 6]),
         ],
-        paper_samples: vec![1, 4, 16],
-        resonant_nodes: vec![
-            ResonantNodes {
-                surface: 3,
-                volume: 2,
-                base: 2,
-            },
-            ResonantNodes::DEFAULT,
-        ],
+        evaluators: ["paper:1", "paper:4", "paper:16", "resonant:3/2/2"]
+            .into_iter()
+            .map(String::from)
+            .chain([default_resonant()])
+            .collect(),
         bake_repetitions: 1,
         speedup_layout: Layout::GRID4D,
         speedup_resolution: 4,
@@ -49,6 +45,17 @@ fn tiny_config() -> ReportConfig {
         gpu: false,
         ..ReportConfig::quick(fabrics)
     }
+}
+
+/// The resonant unit's default spelling ("resonant:6/5/2").
+fn default_resonant() -> String {
+    parse("resonant").unwrap().spelling()
+}
+
+/// The spelling of a point's evaluator, or None for a table.
+fn spelling(point: &Value) -> Option<&str> {
+    let evaluation = &point["evaluation"];
+    (evaluation["family"] == "evaluator").then(|| evaluation["spelling"].as_str().unwrap())
 }
 
 fn finite(v: &Value, what: &str) -> f64 {
@@ -140,37 +147,37 @@ fn tiny_report_writes_json_markdown_and_plots() {
         let name = f["name"].as_str().unwrap().to_string();
         check_timing(&f["direct"], 3, &format!("{name} direct"));
         let points = f["points"].as_array().expect("points array");
-        let of = |family: &str| -> Vec<&Value> {
+        let of = |unit: &str| -> Vec<&Value> {
             points
                 .iter()
-                .filter(|p| p["evaluation"]["family"] == family)
+                .filter(|p| spelling(p).is_some_and(|s| s.split(':').next() == Some(unit)))
                 .collect()
         };
         let paper = of("paper");
         assert_eq!(
             paper
                 .iter()
-                .map(|p| p["evaluation"]["samples"].as_u64().unwrap())
+                .map(|p| spelling(p).unwrap())
                 .collect::<Vec<_>>(),
-            [1, 4, 16]
+            ["paper:1", "paper:4", "paper:16"]
         );
         for p in &paper {
             check_error(&p["error"], &format!("{name} paper"));
             check_timing(&p["timing"], 3, &format!("{name} paper"));
             // Paper mode is the baseline: compared with nothing.
-            assert!(p["vs_paper"].is_null() && p["vs_best"].is_null(), "{p}");
+            assert!(p["vs_baseline"].is_null() && p["vs_best"].is_null(), "{p}");
+            assert!(p["evaluations_per_light"].is_null(), "{p}");
         }
         let resonant = of("resonant");
-        let node_counts = |p: &Value| {
-            let n = &p["evaluation"]["nodes"];
-            format!("{}/{}/{}", n["surface"], n["volume"], n["base"])
-        };
         assert_eq!(
-            resonant.iter().map(|r| node_counts(r)).collect::<Vec<_>>(),
-            ["3/2/2".to_string(), ResonantNodes::DEFAULT.to_string()]
+            resonant
+                .iter()
+                .map(|r| spelling(r).unwrap().to_string())
+                .collect::<Vec<_>>(),
+            ["resonant:3/2/2".to_string(), default_resonant()]
         );
         for r in &resonant {
-            let what = format!("{name} resonant {}", node_counts(r));
+            let what = format!("{name} {}", spelling(r).unwrap());
             check_error(&r["error"], &what);
             check_timing(&r["timing"], 3, &what);
             let per_light = &r["evaluations_per_light"];
@@ -180,7 +187,7 @@ fn tiny_report_writes_json_markdown_and_plots() {
             assert!(per_light["max"].as_u64().unwrap() as f64 >= uniform.max(highlight));
             // Against paper mode: either a paper-mode point at least as accurate with the
             // speed ratio to it, or neither.
-            let vs_paper = &r["vs_paper"];
+            let vs_paper = &r["vs_baseline"];
             assert!(vs_paper["wins"].is_boolean(), "{what}: {vs_paper}");
             assert_eq!(
                 vs_paper["equal_error"].is_null(),
@@ -189,7 +196,8 @@ fn tiny_report_writes_json_markdown_and_plots() {
             );
             if !vs_paper["speed_ratio"].is_null() {
                 assert!(finite(&vs_paper["speed_ratio"], &what) > 0.0);
-                assert_eq!(vs_paper["equal_error"]["evaluation"]["family"], "paper");
+                let equal = vs_paper["equal_error"]["evaluation"]["spelling"].as_str();
+                assert!(equal.unwrap().starts_with("paper:"), "{what}: {vs_paper}");
             }
             assert!(
                 r["vs_best"].is_null(),
@@ -201,7 +209,7 @@ fn tiny_report_writes_json_markdown_and_plots() {
             resonant[1]["evaluations_per_light"]["uniform"].as_f64()
                 >= resonant[0]["evaluations_per_light"]["uniform"].as_f64()
         );
-        let tables = of("table");
+        let tables: Vec<&Value> = points.iter().filter(|p| spelling(p).is_none()).collect();
         let ids: Vec<(String, u64)> = tables
             .iter()
             .map(|t| {
@@ -229,7 +237,7 @@ fn tiny_report_writes_json_markdown_and_plots() {
         // A larger grid4d table has more texels than a smaller one.
         assert!(tables[3]["bytes"].as_u64() > tables[2]["bytes"].as_u64());
         for t in &tables {
-            let (paper, best) = (&t["vs_paper"], &t["vs_best"]);
+            let (paper, best) = (&t["vs_baseline"], &t["vs_best"]);
             assert!(paper["wins"].is_boolean(), "{name}: {t}");
             assert!(best["wins"].is_boolean(), "{name}: {t}");
             // Judged against paper mode and resonant together, a table wins at most where
@@ -238,8 +246,7 @@ fn tiny_report_writes_json_markdown_and_plots() {
                 assert_eq!(paper["wins"], true, "{name}: {t}");
             }
             if let Some(e) = best["equal_error"].as_object() {
-                let family = e["evaluation"]["family"].as_str().unwrap();
-                assert!(family == "paper" || family == "resonant", "{family}");
+                assert_eq!(e["evaluation"]["family"], "evaluator", "{name}: {t}");
                 assert!(finite(&best["speed_ratio"], "speed ratio") > 0.0);
             }
         }
@@ -249,15 +256,15 @@ fn tiny_report_writes_json_markdown_and_plots() {
     }
 
     let md = std::fs::read_to_string(out.join("REPORT.md")).unwrap();
-    let default_label = format!("{} (default)", ResonantNodes::DEFAULT);
+    let default_label = format!("{} (default)", default_resonant());
     for needle in [
         "## Summary",
         "## Error against table size",
         "## Error against CPU cost",
-        "## Resonant quadrature",
+        "## The resonant evaluator",
         default_label.as_str(),
-        "winner vs resonant",
-        "Resonant against paper mode at equal error",
+        "winner vs best",
+        "resonant against paper at equal error",
         "## Bake time",
         "## GPU",
         "linen_plain",
@@ -267,8 +274,9 @@ fn tiny_report_writes_json_markdown_and_plots() {
         assert!(md.contains(needle), "REPORT.md lacks {needle}");
     }
 
-    // Series colours of the plots (src/report/plots.rs): thread_frame blue, grid4d red,
-    // paper mode green, resonant purple.
+    // Series colours of the plots (src/report/plots/chart.rs): thread_frame blue, grid4d
+    // red, the first unit with a report plan (paper mode) green, the second (resonant)
+    // purple.
     let blue = [31, 119, 180];
     let red = [214, 39, 40];
     let green = [44, 160, 44];
@@ -292,4 +300,64 @@ fn tiny_report_writes_json_markdown_and_plots() {
         assert!(files.contains(&file), "files lacks {file}");
         assert!(out.join(file).is_file(), "{file} not written");
     }
+}
+
+#[test]
+fn every_unit_with_a_report_plan_is_measured_and_written_without_being_named() {
+    let fabric = FabricSet::builtin().get("velvet").unwrap().clone();
+    let quick = ReportConfig::quick(vec![fabric.clone()]);
+    // The presets measure every spelling every plan names, and nothing else.
+    let planned: Vec<String> = planned_units()
+        .flat_map(|(_, plan)| plan.cpu(true).iter().map(|s| s.to_string()))
+        .collect();
+    assert_eq!(quick.evaluators, planned);
+    // The cheapest spelling of every plan, on a tiny run.
+    let spellings: Vec<String> = planned_units()
+        .map(|(_, plan)| plan.cpu(true)[0].to_string())
+        .collect();
+    let config = ReportConfig {
+        mode: "test".into(),
+        error_pairs: 100,
+        timing_pairs: 8,
+        timing_samples: 1,
+        min_sample_seconds: 0.0,
+        resolutions: vec![(Layout::GRID4D, vec![4])],
+        evaluators: spellings.clone(),
+        bake_repetitions: 1,
+        speedup_layout: Layout::GRID4D,
+        speedup_resolution: 4,
+        speedup_repetitions: 1,
+        gpu: false,
+        ..quick
+    };
+    let out = out_dir().with_extension("units");
+    let report = run(&config, &out, vec!["test".into()], &mut |_| {}).expect("report runs");
+    let md = std::fs::read_to_string(out.join("REPORT.md")).unwrap();
+    let measured: Vec<String> = report.fabrics[0]
+        .model()
+        .map(|p| p.evaluation.to_string())
+        .collect();
+    assert_eq!(measured, spellings);
+    for ((unit, plan), spelling) in planned_units().zip(&spellings) {
+        let point = report.fabrics[0]
+            .of_unit(unit)
+            .next()
+            .unwrap_or_else(|| panic!("no point of {}", unit.name));
+        assert_eq!(&point.evaluation.to_string(), spelling);
+        assert!(point.error.uniform.relative_rms.is_finite(), "{spelling}");
+        // The baseline is compared with nothing; every other unit with the baseline.
+        assert_eq!(point.vs_baseline.is_none(), plan.baseline, "{spelling}");
+        let row = format!("| velvet | {spelling}");
+        assert!(md.contains(&row), "REPORT.md has no row {row:?}");
+        if !plan.baseline {
+            let heading = format!("## The {} evaluator", unit.name);
+            assert!(md.contains(&heading), "REPORT.md lacks {heading:?}");
+            assert!(
+                md.contains(plan.setting),
+                "REPORT.md lacks {}'s setting",
+                unit.name
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -1,11 +1,11 @@
 //! REPORT.md's GPU section: frame times and image errors of every shader on the standard scene.
 
-use crate::report::format::{paper_n, pct, ratio};
+use crate::report::format::{NONE_UP_TO_THE_LARGEST, baseline_name, pct, ratio};
 use crate::report::{Evaluation, Report, plots};
 use std::fmt::Write;
 
-/// The GPU section: the lookup shader against paper mode and the resonant shader, and
-/// every shader's frame time and image error.
+/// The GPU section: the lookup shader against the baseline's shader and every other
+/// evaluator's, and every shader's frame time and image error.
 pub(super) fn gpu_section(report: &Report, md: &mut String) {
     let g = &report.gpu;
     let _ = writeln!(md, "## GPU\n");
@@ -24,43 +24,45 @@ pub(super) fn gpu_section(report: &Report, md: &mut String) {
         "The standard scene (tables/scene.toml: the cloth draped over a sphere, a directional \
          and a point light) rendered headless at {w}×{h} for each fabric, by the lookup shader \
          (of the fabric's tables measured above, the default layout at its default \
-         resolution, as `bake` makes it, else the largest of that layout), by the paper-mode shader \
-         at each N and by the resonant shader. Time: median of {} frames after a warm-up frame ({}). Image error: \
-         ‖render − reference‖₂/‖reference‖₂ of the linear radiance over the covered pixels, \
-         against the CPU reference render (direct evaluation of the same G-buffer).\n",
+         resolution, as `bake` makes it, else the largest of that layout), and by the GPU form \
+         of each evaluator: {}. Time: median of {} frames after a warm-up frame ({}). Image \
+         error: ‖render − reference‖₂/‖reference‖₂ of the linear radiance over the covered \
+         pixels, against the CPU reference render (direct evaluation of the same G-buffer).\n",
+        report.config.gpu_evaluators.join(", "),
         g.frames,
         g.timing_source.as_deref().unwrap_or("unknown timing")
     );
     let _ = writeln!(md, "![GPU error against cost]({})\n", plots::GPU_COST);
+    let base = baseline_name();
     let _ = writeln!(
         md,
-        "| fabric | lookup ms/frame | lookup image error | paper at equal error | lookup faster by \
-         | paper at equal cost | lookup more accurate by | winner |"
+        "| fabric | lookup ms/frame | lookup image error | {base} at equal error | lookup faster \
+         by | {base} at equal cost | lookup more accurate by | winner |"
     );
     let _ = writeln!(md, "|---|---:|---:|---|---:|---|---:|---|");
     for f in &g.fabrics {
         let Some(lookup) = f.lookup() else {
             continue;
         };
-        let paper: Vec<&crate::report::gpu::GpuPoint> = f
+        let baseline: Vec<&crate::report::gpu::GpuPoint> = f
             .points
             .iter()
-            .filter(|p| p.evaluation.is_paper())
+            .filter(|p| p.evaluation.is_baseline())
             .collect();
-        let points: Vec<(f64, f64)> = paper
+        let points: Vec<(f64, f64)> = baseline
             .iter()
             .map(|p| (p.ms_per_frame, p.image_relative_l2))
             .collect();
         let (error, cost) = (lookup.image_relative_l2, lookup.ms_per_frame);
         let (equal_error, equal_cost, dominated) = crate::report::dominance(error, cost, &points);
-        let n = |i: usize| paper_n(paper[i].evaluation);
+        let n = |i: usize| &baseline[i].evaluation;
         let _ = writeln!(
             md,
             "| {} | {:.2} | {} | {} | {} | {} | {} | {} |",
             f.name,
             cost,
             pct(error),
-            equal_error.map_or("none up to the largest N".into(), |i| format!(
+            equal_error.map_or(NONE_UP_TO_THE_LARGEST.into(), |i| format!(
                 "{} ({:.2} ms)",
                 n(i),
                 points[i].0
@@ -72,14 +74,15 @@ pub(super) fn gpu_section(report: &Report, md: &mut String) {
                 pct(points[i].1)
             )),
             ratio(equal_cost.map(|i| points[i].1 / error)),
-            if dominated { "paper mode" } else { "**table**" }
+            if dominated { base } else { "**table**" }
         );
     }
     md.push('\n');
     let _ = writeln!(
         md,
-        "The resonant shader against the lookup (frame time ratio; image errors):\n\n\
-         | fabric | nodes | ms/frame | × lookup's frame | image error | lookup's image error |\n\
+        "Every other evaluator's shader against the lookup (frame time ratio; image \
+         errors):\n\n\
+         | fabric | shader | ms/frame | × lookup's frame | image error | lookup's image error |\n\
          |---|---|---:|---:|---:|---:|"
     );
     for f in &g.fabrics {
@@ -87,13 +90,14 @@ pub(super) fn gpu_section(report: &Report, md: &mut String) {
             continue;
         };
         for p in &f.points {
-            let Evaluation::Resonant { nodes } = p.evaluation else {
+            if !p.evaluation.is_model() || p.evaluation.is_baseline() {
                 continue;
-            };
+            }
             let _ = writeln!(
                 md,
-                "| {} | {nodes} | {:.2} | {:.1}× | {} | {} |",
+                "| {} | {} | {:.2} | {:.1}× | {} | {} |",
                 f.name,
+                p.evaluation,
                 p.ms_per_frame,
                 p.ms_per_frame / lookup.ms_per_frame,
                 pct(p.image_relative_l2),
@@ -110,9 +114,9 @@ pub(super) fn gpu_section(report: &Report, md: &mut String) {
     let _ = writeln!(md, "|---|---|---:|---:|---:|---:|");
     for f in &g.fabrics {
         for p in &f.points {
-            let shader = match p.evaluation {
+            let shader = match &p.evaluation {
                 table @ Evaluation::Table { .. } => format!("lookup ({table})"),
-                model => model.to_string(),
+                evaluator => evaluator.to_string(),
             };
             let _ = writeln!(
                 md,

@@ -1,9 +1,11 @@
 //! REPORT.md: the report's figures as Markdown tables, with the plots and the method.
 
-use super::EvaluationsPerLight;
-use super::format::{num, paper_n, pct, ratio, size, table_name};
-use super::{Evaluation, FabricReport, Point, Report, pick, plots, summary};
-use crate::model::ResonantNodes;
+use super::format::{
+    NONE_UP_TO_THE_LARGEST, baseline_name, num, pct, ratio, size, table_name, unit_heading,
+    unit_names,
+};
+use super::{Evaluation, EvaluationsPerLight, Point, Report, pick, plots, summary};
+use crate::evaluator::EvaluatorUnit;
 use std::fmt::Write;
 
 mod gpu;
@@ -36,9 +38,10 @@ fn method(report: &Report, md: &mut String) {
          `Table::lookup_batch` (the f32 CPU path, eight pairs at a time, the texels of a \
          batch prefetched, the albedos applied) on the pairs rounded to f32; the random \
          pairs read the table at scattered places, a lookup's worst case for the caches, \
-         where a renderer's neighbouring pixels read neighbouring texels. Paper mode, the \
-         resonant quadrature and the direct evaluation are `Patch::eval`. All timings of a \
-         fabric come from the same run, so their ratios compare like with like.",
+         where a renderer's neighbouring pixels read neighbouring texels. Every evaluator and \
+         the direct evaluation are `FabricEvaluator::eval`, pair by pair, as its registry unit \
+         prepares it. All timings of a fabric come from the same run, so their ratios compare \
+         like with like.",
         c.timing_pairs,
         super::TIMING_SEED,
         c.timing_samples,
@@ -63,14 +66,21 @@ fn method(report: &Report, md: &mut String) {
         c.speedup_resolution,
         c.speedup_repetitions
     );
-    let _ = writeln!(
-        md,
-        "- **Kernel evaluations per light** (resonant quadrature): the tangent samples whose \
-         terms the two threads compute for one (wi, wo) (`ResonantCost::samples` of \
-         `ThreadModel::resonant_means`, summed over both threads), averaged over the uniform \
-         and over the highlight pairs of the error sets."
-    );
-    let resonant: Vec<String> = c.resonant_nodes.iter().map(|n| n.to_string()).collect();
+    let counting: Vec<&EvaluatorUnit> = report
+        .units()
+        .into_iter()
+        .filter(|&unit| counts_per_light(report, unit))
+        .collect();
+    if !counting.is_empty() {
+        let _ = writeln!(
+            md,
+            "- **Kernel evaluations per light** ({}): the tangent samples whose terms the two \
+             threads compute for one (wi, wo) (`FabricEvaluator::kernel_evaluations`, summed \
+             over both threads), averaged over the uniform and over the highlight pairs of the \
+             error sets.",
+            unit_names(&counting)
+        );
+    }
     let layouts: Vec<String> = c
         .resolutions
         .iter()
@@ -78,11 +88,19 @@ fn method(report: &Report, md: &mut String) {
         .collect();
     let _ = writeln!(
         md,
-        "- Resolutions: {}; paper mode N = {:?}; resonant nodes (surface/volume/base) {}.\n",
+        "- Resolutions: {}; evaluators {}.\n",
         layouts.join(", "),
-        c.paper_samples,
-        resonant.join(", ")
+        c.evaluators.join(", ")
     );
+}
+
+/// Whether some point of `unit` in `report` has its kernel evaluations per light.
+fn counts_per_light(report: &Report, unit: &EvaluatorUnit) -> bool {
+    report
+        .fabrics
+        .iter()
+        .flat_map(|f| f.of_unit(unit))
+        .any(|p| p.evaluations_per_light.is_some())
 }
 
 fn tables_section(report: &Report, md: &mut String) {
@@ -156,14 +174,17 @@ fn tables_section(report: &Report, md: &mut String) {
     md.push('\n');
 }
 
-fn paper_section(report: &Report, md: &mut String) {
+/// The baseline's points against the direct evaluation, with the direct evaluation's cost.
+fn baseline_section(report: &Report, md: &mut String) {
     let _ = writeln!(md, "## Error against CPU cost\n");
     let _ = writeln!(md, "![error against cost]({})\n", plots::ERROR_VS_COST);
     let _ = writeln!(
         md,
-        "Paper mode at N samples per thread, against the direct evaluation (whose own cost is \
-         the first row of each fabric). Table lookups are in the table above and the plot; \
-         the resonant quadrature is in the next section and in the plot.\n"
+        "The baseline, `{}` ({}), against the direct evaluation (whose own cost is the first \
+         row of each fabric). Table lookups are in the table above and the plot; every other \
+         evaluator is in a section of its own below and in the plot.\n",
+        super::baseline_unit().map_or("", |unit| unit.syntax),
+        super::baseline_unit().map_or("", |unit| unit.summary)
     );
     let _ = writeln!(
         md,
@@ -177,7 +198,7 @@ fn paper_section(report: &Report, md: &mut String) {
             f.name,
             num(f.direct.ns_per_eval)
         );
-        for p in f.paper() {
+        for p in f.baseline() {
             let _ = writeln!(
                 md,
                 "| {} | {} | {} | {} | {} | {} | {} |",
@@ -194,139 +215,156 @@ fn paper_section(report: &Report, md: &mut String) {
     md.push('\n');
 }
 
-/// The resonant point a fabric's comparison with paper mode is quoted for: the default node
-/// counts when measured, else the most accurate point.
-fn headline_resonant(f: &FabricReport) -> Option<&Point> {
-    let default = Evaluation::Resonant {
-        nodes: ResonantNodes::DEFAULT,
+/// The section of one evaluator other than the baseline: its points against the direct
+/// evaluation and against the baseline at equal error, with its kernel evaluations per light
+/// where it counts them.
+fn unit_section(report: &Report, unit: &EvaluatorUnit, md: &mut String) {
+    let base = baseline_name();
+    let _ = writeln!(md, "## {}\n", unit_heading(unit));
+    let setting = unit.report.map_or(String::new(), |plan| {
+        format!(" Its settings: {}.", plan.setting)
+    });
+    let default = super::default_spelling(unit);
+    let per_light = counts_per_light(report, unit);
+    let _ = writeln!(
+        md,
+        "`{}`: {}.{setting}{} Errors against the same direct evaluation as {base}; cost in CPU \
+         ns per evaluation, timed in the same interleaved run as {base} and the tables{}. \
+         *{base} at equal error*: the cheapest setting of {base} at least as accurate as the \
+         point; *{} / {base}*: the point's cost over that setting's (below 1, {} is cheaper \
+         at equal error).\n",
+        unit.syntax,
+        unit.summary,
+        default
+            .as_ref()
+            .map_or(String::new(), |d| format!(" The default is {d}.")),
+        if per_light {
+            "; kernel evaluations per light on the uniform and the highlight pairs"
+        } else {
+            ""
+        },
+        unit.name,
+        unit.name,
+    );
+    let (per_light_header, per_light_rule) = if per_light {
+        (
+            " evaluations/light (uniform) | evaluations/light (highlight) |",
+            "---:|---:|",
+        )
+    } else {
+        ("", "")
     };
-    f.resonant().find(|r| r.evaluation == default).or_else(|| {
-        f.resonant()
-            .min_by(|a, b| a.worst_error().total_cmp(&b.worst_error()))
-    })
-}
-
-fn resonant_section(report: &Report, md: &mut String) {
-    let _ = writeln!(md, "## Resonant quadrature\n");
-    if report.fabrics.iter().all(|f| f.resonant().next().is_none()) {
-        let _ = writeln!(md, "Not measured in this run.\n");
-        return;
-    }
     let _ = writeln!(
         md,
-        "The resonant quadrature (`Integration::Resonant`): Gauss–Legendre nodes per lobe in \
-         the Gaussian's CDF variable, per curve segment, at the node counts surface/volume/base \
-         below ({} is the default). Errors against the same direct evaluation as paper mode; \
-         cost in CPU ns per evaluation, timed in the same interleaved run as paper mode and \
-         the tables; kernel evaluations per light on the uniform and the highlight pairs. \
-         *Paper at equal error*: the cheapest paper-mode N at least as accurate as the point; \
-         *resonant / paper*: the point's cost over that N's (below 1, the resonant quadrature \
-         is cheaper at equal error).\n",
-        ResonantNodes::DEFAULT
+        "| fabric | evaluation | uniform | highlight | both ≥ 15° | ns/eval | × cheaper than \
+         direct |{per_light_header} {base} at equal error | {} / {base} |",
+        unit.name
     );
     let _ = writeln!(
         md,
-        "| fabric | nodes | uniform | highlight | both ≥ 15° | ns/eval | × cheaper than direct \
-         | evaluations/light (uniform) | evaluations/light (highlight) | paper at equal error \
-         | resonant / paper |"
+        "|---|---|---:|---:|---:|---:|---:|{per_light_rule}---|---:|"
     );
-    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|---:|---|---:|");
     for f in &report.fabrics {
-        for r in f.resonant() {
-            let Evaluation::Resonant { nodes } = r.evaluation else {
-                continue;
+        for r in f.of_unit(unit) {
+            let counts = if per_light {
+                let n = r.evaluations_per_light.unwrap_or(EvaluationsPerLight {
+                    uniform: f64::NAN,
+                    highlight: f64::NAN,
+                    max: 0,
+                });
+                format!(" {:.1} | {:.1} |", n.uniform, n.highlight)
+            } else {
+                String::new()
             };
-            let per_light = r.evaluations_per_light.unwrap_or(EvaluationsPerLight {
-                uniform: f64::NAN,
-                highlight: f64::NAN,
-                max: 0,
-            });
-            let paper = r.vs_paper.as_ref().and_then(|c| c.equal_error.as_ref());
+            let baseline = r.vs_baseline.as_ref().and_then(|c| c.equal_error.as_ref());
+            let is_default = default
+                .as_ref()
+                .is_some_and(|d| r.evaluation.to_string() == *d);
             let _ = writeln!(
                 md,
-                "| {} | {}{} | {} | {} | {} | {} | {} | {:.1} | {:.1} | {} | {} |",
+                "| {} | {}{} | {} | {} | {} | {} | {} |{counts} {} | {} |",
                 f.name,
-                nodes,
-                if nodes == ResonantNodes::DEFAULT {
-                    " (default)"
-                } else {
-                    ""
-                },
+                r.evaluation,
+                if is_default { " (default)" } else { "" },
                 pct(r.error.uniform.relative_rms),
                 pct(r.error.highlight.relative_rms),
                 pct(r.error.uniform_above_15deg.relative_rms),
                 num(r.cost()),
                 ratio(Some(f.direct.ns_per_eval / r.cost())),
-                per_light.uniform,
-                per_light.highlight,
-                paper.map_or_else(
-                    || "none up to the largest N".to_string(),
+                baseline.map_or_else(
+                    || NONE_UP_TO_THE_LARGEST.to_string(),
                     |p| format!(
                         "{} ({}, {} ns)",
-                        paper_n(p.evaluation),
+                        p.evaluation,
                         pct(p.error),
                         num(p.ns_per_eval)
                     )
                 ),
-                ratio(paper.map(|p| r.cost() / p.ns_per_eval)),
+                ratio(baseline.map(|p| r.cost() / p.ns_per_eval)),
             );
         }
     }
     md.push('\n');
     let _ = writeln!(
         md,
-        "**Resonant against paper mode at equal error** (the default node counts, or the most \
-         accurate measured when the default was not; error = the worse of uniform and \
-         highlight):\n"
+        "**{} against {base} at equal error** (the default setting, or the most accurate \
+         measured when the default was not; error = the worse of uniform and highlight):\n",
+        unit.name
     );
     for f in &report.fabrics {
-        let Some(r) = headline_resonant(f) else {
+        let Some(r) = f.headline(unit) else {
             continue;
         };
-        let head = format!(
-            "- {}: {} ({}, {} ns)",
-            f.name,
-            r.evaluation,
-            pct(r.worst_error()),
-            num(r.cost())
-        );
-        let paper = r.vs_paper.as_ref().and_then(|c| c.equal_error.as_ref());
-        let _ = match paper {
-            Some(p) => {
-                let c = r.cost() / p.ns_per_eval;
-                writeln!(
-                    md,
-                    "{head} costs {} of paper mode at equal error, {} ({}, {} ns){}.",
-                    ratio(Some(c)),
-                    paper_n(p.evaluation),
-                    pct(p.error),
-                    num(p.ns_per_eval),
-                    if c < 1.0 {
-                        format!(": {} faster", ratio(Some(1.0 / c)))
-                    } else {
-                        String::new()
-                    }
-                )
-            }
-            None => {
-                let best = f
-                    .paper()
-                    .min_by(|a, b| a.worst_error().total_cmp(&b.worst_error()));
-                writeln!(
-                    md,
-                    "{head}: no paper-mode N measured is as accurate{}, so there is no cost \
-                     ratio at equal error.",
-                    best.map_or(String::new(), |p| format!(
-                        " (the most accurate, {}, is at {}, {} ns)",
-                        paper_n(p.evaluation),
-                        pct(p.worst_error()),
-                        num(p.cost())
-                    ))
-                )
-            }
-        };
+        headline(f, r, md);
     }
     md.push('\n');
+}
+
+/// One fabric's line of a unit's headline point against the baseline at equal error.
+fn headline(f: &super::FabricReport, r: &Point, md: &mut String) {
+    let base = baseline_name();
+    let head = format!(
+        "- {}: {} ({}, {} ns)",
+        f.name,
+        r.evaluation,
+        pct(r.worst_error()),
+        num(r.cost())
+    );
+    let baseline = r.vs_baseline.as_ref().and_then(|c| c.equal_error.as_ref());
+    let _ = match baseline {
+        Some(p) => {
+            let c = r.cost() / p.ns_per_eval;
+            writeln!(
+                md,
+                "{head} costs {} of {base} at equal error, {} ({}, {} ns){}.",
+                ratio(Some(c)),
+                p.evaluation,
+                pct(p.error),
+                num(p.ns_per_eval),
+                if c < 1.0 {
+                    format!(": {} faster", ratio(Some(1.0 / c)))
+                } else {
+                    String::new()
+                }
+            )
+        }
+        None => {
+            let best = f
+                .baseline()
+                .min_by(|a, b| a.worst_error().total_cmp(&b.worst_error()));
+            writeln!(
+                md,
+                "{head}: no setting of {base} measured is as accurate{}, so there is no cost \
+                 ratio at equal error.",
+                best.map_or(String::new(), |p| format!(
+                    " (the most accurate, {}, is at {}, {} ns)",
+                    p.evaluation,
+                    pct(p.worst_error()),
+                    num(p.cost())
+                ))
+            )
+        }
+    };
 }
 
 fn bake_section(report: &Report, md: &mut String) {
@@ -421,8 +459,10 @@ pub fn render(report: &Report) -> String {
     summary::section(report, &mut md);
     method(report, &mut md);
     tables_section(report, &mut md);
-    paper_section(report, &mut md);
-    resonant_section(report, &mut md);
+    baseline_section(report, &mut md);
+    for unit in report.other_units() {
+        unit_section(report, unit, &mut md);
+    }
     bake_section(report, &mut md);
     gpu_section(report, &mut md);
     md

@@ -1,6 +1,7 @@
 //! The plots' shared drawing: fonts, colours, log axes, panels, curves and markers.
 
 use super::super::Report;
+use crate::evaluator::EvaluatorUnit;
 use crate::table::Layout;
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
@@ -18,8 +19,14 @@ pub(super) const LAYOUT_COLOURS: [RGBColor; 4] = [
     RGBColor(44, 160, 44),
     RGBColor(148, 103, 189),
 ];
-pub(super) const PAPER_COLOUR: RGBColor = RGBColor(44, 160, 44);
-pub(super) const RESONANT_COLOUR: RGBColor = RGBColor(148, 103, 189);
+/// Evaluator unit colours, in the order of the units with a report plan
+/// ([`crate::report::planned_units`]).
+pub(super) const UNIT_COLOURS: [RGBColor; 4] = [
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+];
 pub(super) const DIRECT_COLOUR: RGBColor = RGBColor(90, 90, 90);
 pub(super) const LIGHT_LINE: RGBColor = RGBColor(245, 245, 245);
 pub(super) const FABRIC_COLOURS: [RGBColor; 8] = [
@@ -32,6 +39,28 @@ pub(super) const FABRIC_COLOURS: [RGBColor; 8] = [
     RGBColor(227, 119, 194),
     RGBColor(127, 127, 127),
 ];
+
+/// A unit's place among the units with a report plan: its colour, marker and label place.
+pub(super) fn unit_index(unit: &EvaluatorUnit) -> usize {
+    crate::report::planned_units()
+        .position(|(u, _)| u.name == unit.name)
+        .unwrap_or(0)
+}
+
+pub(super) fn unit_colour(unit: &EvaluatorUnit) -> RGBColor {
+    UNIT_COLOURS[unit_index(unit) % UNIT_COLOURS.len()]
+}
+
+/// A unit's marker: triangles, crosses, then circles (which the tables use too).
+pub(super) fn unit_marker(unit: &EvaluatorUnit) -> Marker {
+    [Marker::Triangle, Marker::Cross, Marker::Circle][unit_index(unit) % 3]
+}
+
+/// Where a unit's point labels go beside their markers, and their font size: alternately
+/// above right and below left, so that two units' labels at nearby points do not overlap.
+pub(super) fn unit_label_place(unit: &EvaluatorUnit) -> ((i32, i32), u32) {
+    [((7, -3), 13), ((-12, 7), 12)][unit_index(unit) % 2]
+}
 
 pub(super) fn layout_colour(layout: Layout) -> RGBColor {
     let index = Layout::ALL.iter().position(|&l| l == layout).unwrap_or(0);
@@ -265,43 +294,22 @@ pub(super) fn marker_element<DB: DrawingBackend>(
     }
 }
 
-/// The label "N" of a paper-mode point at `at`, beside its marker.
-macro_rules! paper_label {
-    ($samples:expr, $at:expr) => {
+/// The label of a unit's point at `at` (its parameter), beside its marker in the unit's
+/// colour ([`unit_label_place`]).
+macro_rules! unit_label {
+    ($unit:expr, $label:expr, $at:expr) => {{
+        let (offset, size) = unit_label_place($unit);
         EmptyElement::at($at)
             + Text::new(
-                format!("{}", $samples),
-                (7, -3),
-                (FONT, 13).into_font().color(&PAPER_COLOUR),
+                $label,
+                offset,
+                (FONT, size).into_font().color(&unit_colour($unit)),
             )
-    };
-}
-
-/// The label "S/V/B" of a resonant point at `at`, under its marker.
-macro_rules! resonant_label {
-    ($label:expr, $at:expr) => {
-        EmptyElement::at($at)
-            + Text::new(
-                $label.to_string(),
-                (-12, 7),
-                (FONT, 12).into_font().color(&RESONANT_COLOUR),
-            )
-    };
+    }};
 }
 
 /// Picks one error figure of a table.
 pub(super) type ErrorOf = fn(&super::super::Point) -> f64;
-
-/// The label beside a point in a plot: paper mode's N, the resonant node counts, a table's
-/// resolution.
-pub(super) fn point_label(evaluation: super::super::Evaluation) -> String {
-    use super::super::Evaluation;
-    match evaluation {
-        Evaluation::Paper { samples } => samples.to_string(),
-        Evaluation::Resonant { nodes } => nodes.to_string(),
-        Evaluation::Table { resolution, .. } => resolution.to_string(),
-    }
-}
 
 /// Draws one plot of a report into a file.
 pub(super) type Plot = fn(&Report, &Path) -> PlotResult;

@@ -7,6 +7,7 @@
 #[macro_use]
 mod chart;
 
+use super::gpu::GpuPoint;
 use super::{Evaluation, FabricReport, Point, Report, ReportError};
 use crate::table::Layout;
 use chart::*;
@@ -93,9 +94,9 @@ fn error_vs_size(report: &Report, path: &Path) -> PlotResult {
     })
 }
 
-/// Error (worse of uniform and highlight) against CPU ns per evaluation: paper mode by N,
-/// the resonant quadrature by node counts, each layout by resolution, and the direct
-/// evaluation's cost as a vertical line.
+/// Error (worse of uniform and highlight) against CPU ns per evaluation: each evaluator unit
+/// by its settings, each layout by resolution, and the direct evaluation's cost as a
+/// vertical line.
 fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
     let size = grid_size(report.fabrics.len());
     write_png(path, size, |root| {
@@ -124,30 +125,22 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                     y_ticks: &fmt_log_percent,
                 },
             )?;
-            let paper: Vec<(f64, f64)> = f.paper().map(cost_and_error).collect();
-            curve(
-                &mut chart,
-                &paper,
-                PAPER_COLOUR,
-                Marker::Triangle,
-                (k == 0).then_some("paper mode (N)"),
-            )?;
-            chart.draw_series(
-                f.paper()
-                    .map(|p| paper_label!(point_label(p.evaluation), cost_and_error(p))),
-            )?;
-            let resonant: Vec<(f64, f64)> = f.resonant().map(cost_and_error).collect();
-            curve(
-                &mut chart,
-                &resonant,
-                RESONANT_COLOUR,
-                Marker::Cross,
-                (k == 0).then_some("resonant (surface/volume/base)"),
-            )?;
-            chart.draw_series(
-                f.resonant()
-                    .map(|r| resonant_label!(point_label(r.evaluation), cost_and_error(r))),
-            )?;
+            for unit in report.units() {
+                let points: Vec<&Point> = f.of_unit(unit).collect();
+                let label = unit.syntax.to_string();
+                curve(
+                    &mut chart,
+                    &points.iter().map(|p| cost_and_error(p)).collect::<Vec<_>>(),
+                    unit_colour(unit),
+                    unit_marker(unit),
+                    (k == 0).then_some(label.as_str()),
+                )?;
+                chart.draw_series(
+                    points
+                        .iter()
+                        .map(|p| unit_label!(unit, p.evaluation.parameter(), cost_and_error(p))),
+                )?;
+            }
             for &layout in Layout::ALL {
                 let points: Vec<(f64, f64)> = of_layout(f, layout)
                     .into_iter()
@@ -231,7 +224,7 @@ fn bake_time(report: &Report, path: &Path) -> PlotResult {
 }
 
 /// GPU milliseconds per frame against the image error of the standard scene, per fabric:
-/// the paper-mode shader by N, the resonant shader by node counts and the lookup shader.
+/// each evaluator unit's shader by its settings, and the lookup shader.
 fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
     let g = &report.gpu;
     let size = grid_size(g.fabrics.len());
@@ -255,40 +248,27 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
                     y_ticks: &fmt_log_percent,
                 },
             )?;
-            let at = |p: &super::gpu::GpuPoint| lg2((p.ms_per_frame, p.image_relative_l2));
-            let of = |keep: fn(&Evaluation) -> bool| {
-                f.points
+            let at = |p: &GpuPoint| lg2((p.ms_per_frame, p.image_relative_l2));
+            for unit in report.units() {
+                let points: Vec<&GpuPoint> = f
+                    .points
                     .iter()
-                    .filter(move |p| keep(&p.evaluation))
-                    .collect::<Vec<_>>()
-            };
-            let paper_points = of(Evaluation::is_paper);
-            let paper: Vec<(f64, f64)> = paper_points.iter().map(|p| at(p)).collect();
-            curve(
-                &mut chart,
-                &paper,
-                PAPER_COLOUR,
-                Marker::Triangle,
-                (k == 0).then_some("paper-mode shader (N)"),
-            )?;
-            chart.draw_series(
-                paper_points
-                    .iter()
-                    .map(|p| paper_label!(point_label(p.evaluation), at(p))),
-            )?;
-            let resonant = of(|e| matches!(e, Evaluation::Resonant { .. }));
-            curve(
-                &mut chart,
-                &resonant.iter().map(|p| at(p)).collect::<Vec<_>>(),
-                RESONANT_COLOUR,
-                Marker::Cross,
-                (k == 0).then_some("resonant shader (nodes)"),
-            )?;
-            chart.draw_series(
-                resonant
-                    .iter()
-                    .map(|p| resonant_label!(point_label(p.evaluation), at(p))),
-            )?;
+                    .filter(|p| p.evaluation.is_of(unit))
+                    .collect();
+                let label = format!("{} shader", unit.syntax);
+                curve(
+                    &mut chart,
+                    &points.iter().map(|p| at(p)).collect::<Vec<_>>(),
+                    unit_colour(unit),
+                    unit_marker(unit),
+                    (k == 0).then_some(label.as_str()),
+                )?;
+                chart.draw_series(
+                    points
+                        .iter()
+                        .map(|p| unit_label!(unit, p.evaluation.parameter(), at(p))),
+                )?;
+            }
             let lookup: Vec<(f64, f64)> = f.lookup().map(at).into_iter().collect();
             let label = f.lookup().map_or(String::new(), |p| {
                 format!("lookup shader ({})", p.evaluation)
