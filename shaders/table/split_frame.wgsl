@@ -8,11 +8,13 @@
 //
 // The generated `table_constants` define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap) and per
 // thread J (`Geometry::thread_wgsl`): its point masses `CLOTH_SPLIT_POINT_COUNTJ` (u32) and
-// `CLOTH_SPLIT_POINTSJ` (array of (cos α_k, sin α_k, w_k), one unused entry where there are
-// none), `CLOTH_SPLIT_MATERIALJ` (ClothSampleMaterial), its axes `CLOTH_SPLIT_T0_J`,
+// `cloth_split_point_massesJ(pair, material)` (the sum of `cloth_split_point` over its masses,
+// written out with the masses as literals), `cloth_split_materialJ()` (ClothSampleMaterial), its axes `CLOTH_SPLIT_T0_J`,
 // `CLOTH_SPLIT_BJ`, and its sloped part: `CLOTH_SPLIT_SLOPEDJ` (bool), its share
-// `CLOTH_SPLIT_SLOPED_SHAREJ` (w_c) and its table `CLOTH_SPLIT_SLOPESJ` (ClothThreadTable).
-// Branches on these constants are folded by the shader compiler.
+// `CLOTH_SPLIT_SLOPED_SHAREJ` (w_c) and its table `cloth_split_slopesJ()` (ClothThreadTable).
+// Branches on these constants are folded by the shader compiler. Struct and array values are
+// functions returning a literal, not module-scope constants: glslang's HLSL front end reads
+// two constants of one such type, as naga's HLSL writes them, as a recursion.
 
 // The sloped tables of threads 1 and 2 (a one-texel stand-in for a thread without one) and
 // their ⟨P⟩, one layer per tabulated thread (a stand-in where there is none).
@@ -21,15 +23,17 @@
 @group(CLOTH_BRDF_GROUP) @binding(6) var cloth_split_masking: texture_2d_array<f32>;
 
 // What a thread without sloped segments has for a table: never read.
-const CLOTH_SPLIT_NO_AXIS = ClothAxis(0u, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
-const CLOTH_SPLIT_NO_TABLE = ClothThreadTable(
-    false,
-    array<ClothAxis, 4>(CLOTH_SPLIT_NO_AXIS, CLOTH_SPLIT_NO_AXIS, CLOTH_SPLIT_NO_AXIS, CLOTH_SPLIT_NO_AXIS),
-    vec4<f32>(0.0),
-    CLOTH_SPLIT_NO_AXIS,
-    0.0,
-    0i,
-);
+fn cloth_split_no_table() -> ClothThreadTable {
+    let no_axis = ClothAxis(0u, vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), 0.0);
+    return ClothThreadTable(
+        false,
+        array<ClothAxis, 4>(no_axis, no_axis, no_axis, no_axis),
+        vec4<f32>(0.0),
+        no_axis,
+        0.0,
+        0i,
+    );
+}
 
 // One point mass `point` = (cos α_k, sin α_k, w_k) of a thread as its sums add it
 // (`ThreadModel::point_sums`): w_k·(R_k, T_k, P_k).
@@ -49,17 +53,14 @@ fn cloth_split_sloped(c: vec4<f32>, share: f32) -> vec3<f32> {
 fn cloth_split_thread1(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     var sums = vec3<f32>(0.0);
     if CLOTH_SPLIT_POINT_COUNT1 > 0u {
-        let material = CLOTH_SPLIT_MATERIAL1;
+        let material = cloth_split_material1();
         let pair = cloth_sample_pair(wi, wo, CLOTH_SPLIT_T0_1, CLOTH_SPLIT_B1, material.k_u);
         if pair.par_i > material.threshold && pair.par_o > material.threshold {
-            var points = CLOTH_SPLIT_POINTS1;
-            for (var k = 0u; k < CLOTH_SPLIT_POINT_COUNT1; k++) {
-                sums += cloth_split_point(pair, material, points[k]);
-            }
+            sums += cloth_split_point_masses1(pair, material);
         }
     }
     if CLOTH_SPLIT_SLOPED1 {
-        let c = cloth_thread_sample(cloth_split_table1, cloth_split_masking, CLOTH_SPLIT_SLOPES1, wi, wo);
+        let c = cloth_thread_sample(cloth_split_table1, cloth_split_masking, cloth_split_slopes1(), wi, wo);
         sums += cloth_split_sloped(c, CLOTH_SPLIT_SLOPED_SHARE1);
     }
     return sums;
@@ -69,17 +70,14 @@ fn cloth_split_thread1(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
 fn cloth_split_thread2(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     var sums = vec3<f32>(0.0);
     if CLOTH_SPLIT_POINT_COUNT2 > 0u {
-        let material = CLOTH_SPLIT_MATERIAL2;
+        let material = cloth_split_material2();
         let pair = cloth_sample_pair(wi, wo, CLOTH_SPLIT_T0_2, CLOTH_SPLIT_B2, material.k_u);
         if pair.par_i > material.threshold && pair.par_o > material.threshold {
-            var points = CLOTH_SPLIT_POINTS2;
-            for (var k = 0u; k < CLOTH_SPLIT_POINT_COUNT2; k++) {
-                sums += cloth_split_point(pair, material, points[k]);
-            }
+            sums += cloth_split_point_masses2(pair, material);
         }
     }
     if CLOTH_SPLIT_SLOPED2 {
-        let c = cloth_thread_sample(cloth_split_table2, cloth_split_masking, CLOTH_SPLIT_SLOPES2, wi, wo);
+        let c = cloth_thread_sample(cloth_split_table2, cloth_split_masking, cloth_split_slopes2(), wi, wo);
         sums += cloth_split_sloped(c, CLOTH_SPLIT_SLOPED_SHARE2);
     }
     return sums;

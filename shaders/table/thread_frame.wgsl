@@ -6,8 +6,8 @@
 // requires: table/lookup, table/thread_geometry, table_constants
 //
 // The generated `table_constants` define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap) and
-// `CLOTH_THREAD1`, `CLOTH_THREAD2` (`ClothThreadTable`: each thread's table, ⟨P⟩ in layer
-// j − 1 of the masking texture).
+// `cloth_thread1_axes()`, `cloth_thread2_axes()` (`ClothThreadTable` values: each thread's
+// table, ⟨P⟩ in layer j − 1 of the masking texture).
 
 @group(CLOTH_BRDF_GROUP) @binding(4) var cloth_thread1_table: texture_3d<f32>;
 @group(CLOTH_BRDF_GROUP) @binding(5) var cloth_thread2_table: texture_3d<f32>;
@@ -17,8 +17,8 @@
 // `Geometry::lookup_terms`: (reflection, transmission1, transmission2), divided by Q.
 fn cloth_thread_frame_terms(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     // `Geometry::sample_thread`: reflection, transmission, ⟨P⟩, cos²θd'.
-    let t1 = cloth_thread_sample(cloth_thread1_table, cloth_masking_table, CLOTH_THREAD1, wi, wo);
-    let t2 = cloth_thread_sample(cloth_thread2_table, cloth_masking_table, CLOTH_THREAD2, wi, wo);
+    let t1 = cloth_thread_sample(cloth_thread1_table, cloth_masking_table, cloth_thread1_axes(), wi, wo);
+    let t2 = cloth_thread_sample(cloth_thread2_table, cloth_masking_table, cloth_thread2_axes(), wi, wo);
     let a = CLOTH_COVERAGE;
     let reflection = a.x * t1.x * t1.z / max(t1.w, 1e-8) + a.y * t2.x * t2.z / max(t2.w, 1e-8);
     let transmission = vec2<f32>(a.x * t1.y * t1.z, a.y * t2.y * t2.z);

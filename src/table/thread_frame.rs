@@ -332,7 +332,7 @@ impl TableLookup for Geometry {
         );
         let mut out = coverage_wgsl(self.coverage, self.gap);
         for (j, thread) in self.threads.iter().enumerate() {
-            out += &thread.wgsl_constant(&format!("CLOTH_THREAD{}", j + 1), j);
+            out += &thread.wgsl_constant(&format!("cloth_thread{}_axes", j + 1), j);
         }
         out
     }

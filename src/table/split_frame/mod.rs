@@ -425,9 +425,9 @@ impl Geometry {
     }
 
     /// The constants of thread j that `cloth_split_threadJ` of `shaders/table/split_frame.wgsl`
-    /// reads: its point masses (count, and (cos α_k, sin α_k, w_k), one unused entry where it
-    /// has none, WGSL having no empty arrays), its sample material and axes, and its sloped
-    /// table (whether it has one, its share w_c and its `ClothThreadTable`).
+    /// reads: its point masses (their count, and their sum at a pair over the (cos α_k,
+    /// sin α_k, w_k) as literals), its sample material and axes, and its sloped table
+    /// (whether it has one, its share w_c and its `ClothThreadTable`).
     fn thread_wgsl(&self, j: usize) -> String {
         let k = j + 1;
         let thread = &self.threads[j];
@@ -437,26 +437,37 @@ impl Geometry {
             thread.points.len(),
             sloped.map_or(0.0, |(s, _)| s.weight)
         );
-        let points: Vec<String> = match &thread.points[..] {
-            [] => vec![wgsl_vec(&[0.0f32; 3])],
-            points => points
-                .iter()
-                .map(|&(cos_a, sin_a, weight)| wgsl_vec(&[cos_a, sin_a, weight]))
-                .collect(),
+        // The point masses' sum written out: HLSL through naga and glslang takes no array
+        // of constants, neither a module-scope one (two of one type read as a recursion) nor a
+        // local one (zero-initialised by a constructor glslang refuses).
+        let masses: Vec<String> = thread
+            .points
+            .iter()
+            .map(|&(cos_a, sin_a, weight)| {
+                format!(
+                    "cloth_split_point(pair, material, {})",
+                    wgsl_vec(&[cos_a, sin_a, weight])
+                )
+            })
+            .collect();
+        let masses = if masses.is_empty() {
+            "vec3<f32>(0.0)".to_string()
+        } else {
+            masses.join("\n        + ")
         };
         let (t0, b) = crate::model::thread_axes(j);
         let _ = write!(
             f,
             "const CLOTH_SPLIT_POINT_COUNT{k} = {}u;\n\
-             const CLOTH_SPLIT_POINTS{k} = array<vec3<f32>, {}>(\n    {},\n);\n\
-             const CLOTH_SPLIT_MATERIAL{k} = {};\n\
+             fn cloth_split_point_masses{k}(pair: ClothSamplePair, material: ClothSampleMaterial) \
+             -> vec3<f32> {{\n    return {};\n}}\n\
+             fn cloth_split_material{k}() -> ClothSampleMaterial {{\n    return {};\n}}\n\
              const CLOTH_SPLIT_T0_{k} = {};\n\
              const CLOTH_SPLIT_B{k} = {};\n\
              const CLOTH_SPLIT_SLOPED{k} = {};\n\
              const CLOTH_SPLIT_SLOPED_SHARE{k} = {};\n",
             thread.points.len(),
-            points.len(),
-            points.join(",\n    "),
+            masses,
             self.material_wgsl(j),
             wgsl_vec(&t0.to_array()),
             wgsl_vec(&b.to_array()),
@@ -467,10 +478,14 @@ impl Geometry {
             Some((slopes, (table, _))) => {
                 f += &slopes
                     .geometry
-                    .wgsl_constant(&format!("CLOTH_SPLIT_SLOPES{k}"), table);
+                    .wgsl_constant(&format!("cloth_split_slopes{k}"), table);
             }
             None => {
-                let _ = writeln!(f, "const CLOTH_SPLIT_SLOPES{k} = CLOTH_SPLIT_NO_TABLE;");
+                let _ = writeln!(
+                    f,
+                    "fn cloth_split_slopes{k}() -> ClothThreadTable {{\n    \
+                     return cloth_split_no_table();\n}}"
+                );
             }
         }
         f

@@ -318,10 +318,15 @@ impl ThreadGeometry {
         ((i[2] * n[3] + i[3]) * n[1] + i[1]) * n[0] + i[0]
     }
 
-    /// The WGSL constant `name` describing this thread's table as `cloth_thread_sample` of
+    /// The WGSL value `name()` describing this thread's table as `cloth_thread_sample` of
     /// `shaders/table/thread_geometry.wgsl` reads it (a `ClothThreadTable`: its frame, axes,
     /// texel counts and the layer of its ⟨P⟩ in the masking array texture), with a comment
     /// describing the axes.
+    ///
+    /// A function returning the literal rather than a module-scope `const`: naga's HLSL
+    /// writes a struct or array constant through a constructor function, and glslang's HLSL
+    /// front end reads two constants of one type as a recursion (the same reason as the
+    /// resonant kernel's literals, `crate::evaluator::resonant::kernel`).
     pub fn wgsl_constant(&self, name: &str, layer: usize) -> String {
         let labels = ["βH", "θd'", "u", "v"];
         let mut out = format!(
@@ -340,10 +345,11 @@ impl ThreadGeometry {
         let n = self.axes.map(|a| a.texels as f64);
         let _ = writeln!(
             out,
-            "const {name} = ClothThreadTable(\n    {},\n    array<ClothAxis, 4>(\n        {},\n    ),\n    \
-             {},\n    {masking},\n    {},\n    {layer}i,\n);",
+            "fn {name}() -> ClothThreadTable {{\n    return ClothThreadTable(\n        {},\n        \
+             array<ClothAxis, 4>(\n            {},\n        ),\n        {},\n        {masking},\n        \
+             {},\n        {layer}i,\n    );\n}}",
             self.t0 != DVec3::X,
-            axes.join(",\n        "),
+            axes.join(",\n            "),
             wgsl_vec(&n),
             wgsl_f32(self.masking_axis.texels as f64),
         );
