@@ -10,12 +10,12 @@
 
 use super::{Evaluation, ReportConfig};
 use crate::evaluator::table::TableEvaluation;
-use crate::evaluator::{EvaluationContext, FabricEvaluator, direct};
+use crate::evaluator::{EvaluationContext, EvaluatorError, FabricEvaluator, direct};
 use crate::gpu::{GpuContext, GpuError};
-use crate::render::image::{LinearImage, image_error};
+use crate::render::image::{ImageFileError, LinearImage, image_error};
 use crate::render::{FrameSettings, Headless, reference};
 use crate::scene::Scene;
-use crate::scene::mesh::Mesh;
+use crate::scene::mesh::{Mesh, MeshError};
 use crate::table::Table;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -150,6 +150,19 @@ pub fn measure(
     }
 }
 
+/// Why the GPU section could not be measured (it is then skipped, saying why).
+#[derive(Debug, thiserror::Error)]
+enum GpuSectionError {
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error(transparent)]
+    Evaluator(#[from] EvaluatorError),
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error(transparent)]
+    Image(#[from] ImageFileError),
+}
+
 /// Renders and times every shader of every fabric; returns the figures and the timing
 /// source.
 fn measure_on(
@@ -157,8 +170,7 @@ fn measure_on(
     tables: &[Table],
     context: &GpuContext,
     progress: &mut dyn FnMut(&str),
-) -> Result<(Vec<GpuFabric>, String), String> {
-    let text = |e: GpuError| e.to_string();
+) -> Result<(Vec<GpuFabric>, String), GpuSectionError> {
     let context_files = EvaluationContext::default();
     let scene = Scene::builtin();
     // The shaders are compared on the scene's lights alone: an environment light multiplies
@@ -167,7 +179,7 @@ fn measure_on(
         environment_samples: 0,
         ..FrameSettings::from_scene(&scene)
     };
-    let mesh = Mesh::from_spec(&scene.mesh).map_err(|e| e.to_string())?;
+    let mesh = Mesh::from_spec(&scene.mesh)?;
     let [width, height] = config.gpu_frame;
     let frames = config.gpu_frames.max(1) as u32;
     let mut headless: Option<Headless> = None;
@@ -189,16 +201,13 @@ fn measure_on(
         let mut prepared = vec![(lookup, lookup_evaluator)];
         for spelling in &config.gpu_evaluators {
             let evaluator = crate::evaluator::parse(spelling)
-                .and_then(|e| e.prepare(fabric, &context_files))
-                .map_err(|e| e.to_string())?;
+                .and_then(|e| e.prepare(fabric, &context_files))?;
             prepared.push((Evaluation::evaluator(spelling.clone()), evaluator));
         }
-        let direct = (direct::UNIT.parse)(None)
-            .and_then(|e| e.prepare(fabric, &context_files))
-            .map_err(|e| e.to_string())?;
+        let direct = (direct::UNIT.parse)(None).and_then(|e| e.prepare(fabric, &context_files))?;
         let mut brdfs = Vec::new();
         for (evaluation, evaluator) in prepared {
-            let brdf = evaluator.gpu(context).map_err(|e| e.to_string())?;
+            let brdf = evaluator.gpu(context)?;
             brdfs.push((evaluation, brdf));
         }
         let mut reference: Option<(LinearImage, f64)> = None;
@@ -206,17 +215,17 @@ fn measure_on(
         for (evaluation, brdf) in &brdfs {
             let renderer = match &mut headless {
                 Some(h) => {
-                    h.renderer.set_brdf(context, brdf.as_ref()).map_err(text)?;
+                    h.renderer.set_brdf(context, brdf.as_ref())?;
                     h
                 }
-                None => headless.insert(
-                    Headless::new(context, &mesh, brdf.as_ref(), width, height).map_err(text)?,
-                ),
+                None => {
+                    headless.insert(Headless::new(context, &mesh, brdf.as_ref(), width, height)?)
+                }
             };
             // The G-buffer depends on the mesh and the view only: one for all fabrics.
             let gbuffer = match &gbuffer {
                 Some(g) => g,
-                None => gbuffer.insert(renderer.gbuffer(context, &settings).map_err(text)?),
+                None => gbuffer.insert(renderer.gbuffer(context, &settings)?),
             };
             let (reference, _) = reference.get_or_insert_with(|| {
                 let started = Instant::now();
@@ -224,10 +233,9 @@ fn measure_on(
                 let image = reference::shade_with(gbuffer, &settings, brdf, None);
                 (image, started.elapsed().as_secs_f64())
             });
-            let output = renderer.render(context, &settings, frames).map_err(text)?;
+            let output = renderer.render(context, &settings, frames)?;
             source = output.timing.source.to_string();
-            let error = image_error(&output.linear, reference, settings.exposure)
-                .map_err(|e| e.to_string())?;
+            let error = image_error(&output.linear, reference, settings.exposure)?;
             let point = GpuPoint {
                 evaluation: evaluation.clone(),
                 ms_per_frame: output.timing.median_ms(),
