@@ -32,13 +32,23 @@
 //!   (C + 1 values each). Probabilities are differences of stored neighbours, in sampling and
 //!   in the pdf alike, so the f32 rounding of the CDFs cannot make them disagree.
 //! - **A cosine share.** With probability [`COSINE_SHARE`] wi is drawn from the cosine
-//!   density cos θ/π instead: every direction above the horizon keeps a density of at least
-//!   COSINE_SHARE·cos θ/π, so a lobe the cell's two points missed costs variance, never bias.
+//!   density cos θ/π restricted to F's support for `wo` ([`support`]: the whole hemisphere
+//!   for every built-in fabric but velvet) instead: every direction where F can be non-zero
+//!   keeps a density of at least COSINE_SHARE·cos θ/π, so a lobe the cell's two points
+//!   missed costs variance, never bias.
+//! - **The support.** The density is 0 wherever F is 0 by the model's geometry: a table
+//!   draw outside the support is rejected (its cell straddles the support's edge, or a
+//!   neighbouring node's support differs), and the pdf is 0 there, so the density integrates
+//!   to the accepted fraction, 1 less that lost part of the table's share.
+//! - **Data.** After the nodes, at `SUPPORT_BASE`: 1 if the support is restricted (else 0),
+//!   the two threads' interval counts n1 and n2, then their curve intervals (start, end) in
+//!   radians, thread 1's first.
 //!
 //! The three uniform numbers: u3 picks cosine or table, then (rescaled) the node; u1 the row
 //! and then z inside it; u2 the column and then the azimuth inside it.
 
 pub mod environment;
+mod support;
 pub mod taps;
 
 pub use environment::{EnvironmentSampler, SAMPLER_MAX_WIDTH};
@@ -47,7 +57,8 @@ pub use taps::SampleTaps;
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use glam::DVec3;
 use rayon::prelude::*;
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::f64::consts::{FRAC_PI_2, TAU};
+use support::{Lunes, Support};
 
 /// Elevation nodes over wo (0° to 90°).
 pub const ELEVATION_NODES: usize = 17;
@@ -61,6 +72,8 @@ pub const COLUMNS: usize = 64;
 pub const NODE_STRIDE: usize = (ROWS + 1) + ROWS * (COLUMNS + 1);
 /// Nodes over wo.
 pub const NODES: usize = ELEVATION_NODES * AZIMUTH_NODES;
+/// Where the support's block starts in [`Sampler::data`], after the nodes.
+pub const SUPPORT_BASE: usize = NODES * NODE_STRIDE;
 /// The elevation at which node 0 (nominally 0°) is built: F vanishes at exactly 0°.
 pub const GRAZING_NODE_DEG: f64 = 0.1;
 /// The probability of drawing from the cosine density instead of the table.
@@ -86,6 +99,7 @@ pub struct Sample {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sampler {
     data: Vec<f32>,
+    support: Support,
 }
 
 /// z = sin(elevation) at the lower edge of row `r` (r = ROWS: the normal).
@@ -218,7 +232,7 @@ impl Sampler {
     /// The sampler of `fabric`, built from the resonant quadrature with [`BUILD_NODES`].
     pub fn for_fabric(fabric: &Fabric) -> Self {
         let patch = Patch::new(fabric, Integration::Resonant(BUILD_NODES));
-        Self::build(|wi, wo| patch.eval(wi, wo))
+        Self::build(|wi, wo| patch.eval(wi, wo)).with_support(Support::of_fabric(fabric))
     }
 
     /// The sampler of a baked table's fabric, built from the table's f32 lookup (its batch
@@ -229,11 +243,27 @@ impl Sampler {
         Self::build_batched(|pairs, out| {
             crate::measure::accuracy::lookup_batch_f64(table, pairs, out)
         })
+        .with_support(Support::of_fabric(&table.fabric))
+    }
+
+    /// This sampler with its density 0 outside `support` (the data's support block
+    /// rewritten).
+    fn with_support(mut self, support: Support) -> Self {
+        self.data.truncate(SUPPORT_BASE);
+        let curves = [support.curve(0), support.curve(1)];
+        self.data
+            .push(if support.is_everywhere() { 0.0 } else { 1.0 });
+        self.data.extend(curves.map(|c| c.len() as f32));
+        for &(start, end) in curves.into_iter().flatten() {
+            self.data.extend([start as f32, end as f32]);
+        }
+        self.support = support;
+        self
     }
 
     /// A sampler whose cell probabilities follow `f(wi, wo)` (RGB, the patch transfer; its
-    /// mean over the channels is used). Nodes in parallel, each computed alone: the result
-    /// does not depend on the thread count.
+    /// mean over the channels is used), with no restriction of its support. Nodes in
+    /// parallel, each computed alone: the result does not depend on the thread count.
     pub fn build(f: impl Fn(DVec3, DVec3) -> DVec3 + Sync) -> Self {
         Self::build_batched(|pairs, out| {
             for (value, &(wi, wo)) in out.iter_mut().zip(pairs) {
@@ -256,7 +286,9 @@ impl Sampler {
             .collect();
         Self {
             data: nodes.concat(),
+            support: Support::everywhere(),
         }
+        .with_support(Support::everywhere())
     }
 
     /// One node's CDFs for outgoing direction `wo`.
@@ -330,9 +362,10 @@ impl Sampler {
         (rows[r + 1] as f64 - rows[r] as f64) * (columns[c + 1] as f64 - columns[c] as f64)
     }
 
-    /// The density at `wi` (w.z > 0) of the mixture of `nodes` (one wo's bilinear weights):
-    /// wi's cell and its solid angle are the same in every node, so they are found once.
-    fn mixture_pdf(&self, nodes: &[(usize, f64); 4], wi: DVec3) -> f64 {
+    /// The density at `wi` (w.z > 0, inside `lunes`) of the mixture of `nodes` (one wo's
+    /// bilinear weights) and the cosine share on `lunes`: wi's cell and its solid angle are
+    /// the same in every node, so they are found once.
+    fn mixture_pdf(&self, nodes: &[(usize, f64); 4], lunes: &Lunes, wi: DVec3) -> f64 {
         let r = ((elevation_of(wi) / FRAC_PI_2 * ROWS as f64) as usize).min(ROWS - 1);
         let c = ((azimuth_of(wi) / TAU * COLUMNS as f64) as usize).min(COLUMNS - 1);
         let table: f64 = nodes
@@ -340,28 +373,34 @@ impl Sampler {
             .filter(|&&(_, w)| w > 0.0)
             .map(|&(n, w)| w * self.cell_probability(n, r, c))
             .sum();
-        COSINE_SHARE * wi.z / PI + (1.0 - COSINE_SHARE) * table / cell_solid_angle(r)
+        COSINE_SHARE * lunes.cosine_pdf(wi) + (1.0 - COSINE_SHARE) * table / cell_solid_angle(r)
     }
 
     /// `pdf(wi | wo)` per unit solid angle, as [`Sampler::sample`] draws it; 0 when either
-    /// direction is not above the horizon. Both unit, in the patch frame.
+    /// direction is not above the horizon or wi is outside F's support. Both unit, in the
+    /// patch frame.
     pub fn pdf(&self, wo: DVec3, wi: DVec3) -> f64 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
-        self.mixture_pdf(&node_weights(wo), wi)
+        let lunes = self.support.lunes(wo);
+        if !lunes.contains(wi) {
+            return 0.0;
+        }
+        self.mixture_pdf(&node_weights(wo), &lunes, wi)
     }
 
     /// A direction drawn for unit `wo` from three uniform numbers in [0, 1), and its density;
-    /// `None` when `wo` is not above the horizon or the draw lands on the horizon itself.
+    /// `None` when `wo` is not above the horizon, the draw lands on the horizon itself, or a
+    /// table draw lands outside F's support.
     pub fn sample(&self, wo: DVec3, u: [f64; 3]) -> Option<Sample> {
         if wo.z <= 0.0 {
             return None;
         }
         let weights = node_weights(wo);
+        let lunes = self.support.lunes(wo);
         let wi = if u[2] < COSINE_SHARE {
-            // Cosine density: z² uniform (Malley's method in z and azimuth).
-            direction_at_z((1.0 - u[0]).sqrt(), u[1] * TAU)
+            lunes.sample_cosine([u[0], u[1]], u[2] / COSINE_SHARE)?
         } else {
             let pick = (u[2] - COSINE_SHARE) / (1.0 - COSINE_SHARE);
             let node = self.node(pick_node(&weights, pick));
@@ -370,10 +409,10 @@ impl Sampler {
             let z = row_z(r) + ur * (row_z(r + 1) - row_z(r));
             direction_at_z(z, (c as f64 + uc) * TAU / COLUMNS as f64)
         };
-        if wi.z <= 0.0 {
+        if wi.z <= 0.0 || !lunes.contains(wi) {
             return None;
         }
-        let pdf = self.mixture_pdf(&weights, wi);
+        let pdf = self.mixture_pdf(&weights, &lunes, wi);
         (pdf > 0.0).then_some(Sample { wi, pdf })
     }
 
@@ -390,6 +429,7 @@ impl Sampler {
              const SAMPLING_ROWS: u32 = {ROWS}u;\n\
              const SAMPLING_COLUMNS: u32 = {COLUMNS}u;\n\
              const SAMPLING_NODE_STRIDE: u32 = {NODE_STRIDE}u;\n\
+             const SAMPLING_SUPPORT_BASE: u32 = {SUPPORT_BASE}u;\n\
              const SAMPLING_COSINE_SHARE: f32 = {};\n\
              const SAMPLING_TAP_ELEVATIONS: u32 = {}u;\n\
              const SAMPLING_TAP_AZIMUTHS: u32 = {}u;\n\

@@ -17,6 +17,60 @@ use std::f64::consts::PI;
 const DRAWS: usize = 200_000;
 /// Overall significance of all CPU chi-square tests together.
 const ALPHA: f64 = 0.01;
+/// Bound on the share of draws a sampler rejects because a table draw lands outside F's
+/// support (docs/notebook/2026-12-07-sampler-support.md).
+const MOST_REJECTED: f64 = 3e-3;
+
+/// The density is 0 exactly where F is: velvet (whose threads' curves miss α = 0, so part
+/// of the hemisphere sees no tangent sample facing both directions) at outgoing directions
+/// down to 2°, 20,000 random wi each, F by the resonant quadrature; every accepted draw lands
+/// where F > 0.
+#[test]
+fn the_density_is_zero_exactly_where_f_is() {
+    let fabric = builtin().into_iter().find(|f| f.name == "velvet").unwrap();
+    let sampler = Sampler::for_fabric(&fabric);
+    let patch = Patch::new(&fabric, Integration::Resonant(ResonantNodes::DEFAULT));
+    let mut rng = Pcg64::seed_from_u64(0x5077_0a7);
+    let (mut zero, mut positive) = (0usize, 0usize);
+    for &(elevation, azimuth) in &[
+        (2.0, 0.0),
+        (2.0, 135.0),
+        (7.0, 200.0),
+        (7.0, 30.0),
+        (30.0, 30.0),
+        (60.0, 250.0),
+    ] {
+        let wo = dir(elevation, azimuth);
+        for _ in 0..20_000 {
+            let (z, a): (f64, f64) = (rng.random(), rng.random_range(0.0..2.0 * PI));
+            let r = (1.0 - z * z).sqrt();
+            let wi = DVec3::new(r * a.cos(), r * a.sin(), z);
+            let f = patch.eval(wi, wo);
+            let pdf = sampler.pdf(wo, wi);
+            let f_zero = f == DVec3::ZERO;
+            assert_eq!(
+                f_zero,
+                pdf == 0.0,
+                "at {elevation}°/{azimuth}°, wi {wi}: F {f}, pdf {pdf}"
+            );
+            if f_zero {
+                zero += 1
+            } else {
+                positive += 1
+            }
+            let u = [rng.random(), rng.random(), rng.random()];
+            if let Some(s) = sampler.sample(wo, u) {
+                assert!(
+                    patch.eval(s.wi, wo) != DVec3::ZERO,
+                    "a draw where F = 0: {}",
+                    s.wi
+                );
+            }
+        }
+    }
+    println!("velvet: {zero} random pairs with F = 0 and pdf = 0, {positive} with both > 0");
+    assert!(zero > 0 && positive > 0);
+}
 
 #[test]
 fn chi_square_quantiles_of_the_gamma_function() {
@@ -44,13 +98,17 @@ fn draws_follow_the_density_for_every_fabric() {
             let wo = dir(elevation, azimuth);
             let mass = chi2::expected_mass(|wi| sampler.pdf(wo, wi));
             let total: f64 = mass.iter().sum();
-            // ∫pdf = 1: each node's CDF ends at exactly 1 and the cosine share integrates
-            // to 1; what is left is f32 rounding of the CDF differences (~1e-7 each).
+            // ∫pdf ≤ 1: each node's CDF ends at exactly 1 and the cosine share integrates
+            // to 1 on F's support, up to f32 rounding of the CDF differences (~1e-7 each);
+            // table draws outside the support are rejected, a part bounded by measurement.
             assert!(
-                (total - 1.0).abs() < 1e-5,
+                total < 1.0 + 1e-5 && total > 1.0 - MOST_REJECTED,
                 "{} at {elevation}°: ∫pdf = {total}",
                 fabric.name
             );
+            if total < 1.0 - 1e-5 {
+                println!("{} at {elevation}°: ∫pdf = {total:.6}", fabric.name);
+            }
             let mut observed = vec![0u64; mass.len()];
             let mut rejected = 0usize;
             for _ in 0..DRAWS {
@@ -69,8 +127,8 @@ fn draws_follow_the_density_for_every_fabric() {
                     None => rejected += 1,
                 }
             }
-            // The accepted fraction is ∫pdf over the hemisphere: a draw is rejected only if
-            // it lands exactly on the horizon, a set of measure zero.
+            // The accepted fraction is ∫pdf over the hemisphere: a draw is rejected where it
+            // lands outside F's support or exactly on the horizon, a set of measure zero.
             let accepted = 1.0 - rejected as f64 / DRAWS as f64;
             assert!(
                 (accepted - total).abs() < 4.0 / (DRAWS as f64).sqrt(),
