@@ -79,7 +79,8 @@ pub const GRAZING_NODE_DEG: f64 = 0.1;
 /// The probability of drawing from the cosine density instead of the table.
 pub const COSINE_SHARE: f64 = 0.1;
 /// Resonant node counts of the evaluation the built-in sampler is built from: the density
-/// only has to follow F's shape (report/REPORT.md: 3/2/2 is within 0.17–0.96% of the direct rule).
+/// only has to follow F's shape, which coarser nodes than the default keep (their error against
+/// the direct rule: report/REPORT.md).
 pub const BUILD_NODES: ResonantNodes = ResonantNodes {
     surface: 3,
     volume: 2,
