@@ -31,7 +31,7 @@ fn the_density_is_zero_exactly_where_f_is() {
     let fabric = builtin().into_iter().find(|f| f.name == "velvet").unwrap();
     let sampler = Sampler::for_fabric(&fabric);
     let patch = Patch::new(&fabric, Integration::Resonant(ResonantNodes::DEFAULT));
-    let mut rng = Pcg64::seed_from_u64(0x5077_0a7);
+    let mut rng = Pcg64::seed_from_u64(0x0507_70a7);
     let (mut zero, mut positive) = (0usize, 0usize);
     for &(elevation, azimuth) in &[
         (2.0, 0.0),
