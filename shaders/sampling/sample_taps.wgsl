@@ -61,10 +61,10 @@ fn sampling_tap(at: SamplingTapNodes, k: u32, count: u32) -> SamplingTap {
 // tent two texels wide (h²/6), h²/4 in all, three times the h²/12 of a box of area h² = Ωs.
 // Matching the variances would take ½·log2(1/3) ≈ −0.8 levels, but sharper fetches also
 // alias what one fetch per stratum cannot resolve (a window's edge, the horizon). Measured,
-// −½ lowers the worst errors (studio, interior) by up to a third, and leaves the skies,
-// slightly worse, well within 2% (docs/sampling.md#what-was-tried). The taps' weights assume
-// this blur, a variance of Ωs/8 per axis (`FETCH_VARIANCE_PER_SOLID_ANGLE` in
-// src/sampling/moments.rs): change both together.
+// −½ lowers the worst errors (studio, interior) by up to a third, and leaves the skies
+// slightly worse but within their goal (docs/notebook/2026-12-07-sampling.md#what-was-tried).
+// The taps' weights assume this blur, a variance of Ωs/8 per axis
+// (`FETCH_VARIANCE_PER_SOLID_ANGLE` in src/sampling/moments.rs): change both together.
 fn sampling_lod(log2_solid_angle: f32, texel: f32) -> f32 {
     return 0.5 * (log2_solid_angle - log2(texel)) - 0.5;
 }

@@ -32,22 +32,38 @@
 //!   (C + 1 values each). Probabilities are differences of stored neighbours, in sampling and
 //!   in the pdf alike, so the f32 rounding of the CDFs cannot make them disagree.
 //! - **A cosine share.** With probability [`COSINE_SHARE`] wi is drawn from the cosine
-//!   density cos θ/π instead: every direction above the horizon keeps a density of at least
-//!   COSINE_SHARE·cos θ/π, so a lobe the cell's two points missed costs variance, never bias.
+//!   density cos θ/π restricted to F's support for `wo` ([`support`]: the whole hemisphere
+//!   for every built-in fabric but velvet) instead: every direction where F can be non-zero
+//!   keeps a density of at least COSINE_SHARE·cos θ/π, so a lobe the cell's two points
+//!   missed costs variance, never bias.
+//! - **The support.** The density is 0 wherever F is 0 by the model's geometry: a table
+//!   draw outside the support is rejected (its cell straddles the support's edge, or a
+//!   neighbouring node's support differs), and the pdf is 0 there, so the density integrates
+//!   to the accepted fraction, 1 less that lost part of the table's share.
+//! - **Data.** After the nodes, at `SUPPORT_BASE`: 1 if the support is restricted (else 0),
+//!   the two threads' interval counts n1 and n2, then their curve intervals (start, end) in
+//!   radians, thread 1's first.
 //!
 //! The three uniform numbers: u3 picks cosine or table, then (rescaled) the node; u1 the row
 //! and then z inside it; u2 the column and then the azimuth inside it.
 
+mod albedo;
 pub mod environment;
+mod support;
 pub mod taps;
 
+pub use albedo::{
+    ALBEDO_AZIMUTHS, ALBEDO_ELEVATIONS_DEG, ALBEDO_MAP_AZIMUTHS, ALBEDO_MAP_ELEVATIONS, AlbedoMap,
+    AlbedoRow, albedo_curve, describe_albedo, directional_albedo, hammersley,
+};
 pub use environment::{EnvironmentSampler, SAMPLER_MAX_WIDTH};
 pub use taps::SampleTaps;
 
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use glam::DVec3;
 use rayon::prelude::*;
-use std::f64::consts::{FRAC_PI_2, PI, TAU};
+use std::f64::consts::{FRAC_PI_2, TAU};
+use support::{Lunes, Support};
 
 /// Elevation nodes over wo (0° to 90°).
 pub const ELEVATION_NODES: usize = 17;
@@ -61,12 +77,15 @@ pub const COLUMNS: usize = 64;
 pub const NODE_STRIDE: usize = (ROWS + 1) + ROWS * (COLUMNS + 1);
 /// Nodes over wo.
 pub const NODES: usize = ELEVATION_NODES * AZIMUTH_NODES;
+/// Where the support's block starts in [`Sampler::data`], after the nodes.
+pub const SUPPORT_BASE: usize = NODES * NODE_STRIDE;
 /// The elevation at which node 0 (nominally 0°) is built: F vanishes at exactly 0°.
 pub const GRAZING_NODE_DEG: f64 = 0.1;
 /// The probability of drawing from the cosine density instead of the table.
 pub const COSINE_SHARE: f64 = 0.1;
 /// Resonant node counts of the evaluation the built-in sampler is built from: the density
-/// only has to follow F's shape (report/REPORT.md: 3/2/2 is within 0.17–0.96% of the direct rule).
+/// only has to follow F's shape, which coarser nodes than the default keep (their error against
+/// the direct rule: report/REPORT.md).
 pub const BUILD_NODES: ResonantNodes = ResonantNodes {
     surface: 3,
     volume: 2,
@@ -86,6 +105,7 @@ pub struct Sample {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sampler {
     data: Vec<f32>,
+    support: Support,
 }
 
 /// z = sin(elevation) at the lower edge of row `r` (r = ROWS: the normal).
@@ -218,7 +238,7 @@ impl Sampler {
     /// The sampler of `fabric`, built from the resonant quadrature with [`BUILD_NODES`].
     pub fn for_fabric(fabric: &Fabric) -> Self {
         let patch = Patch::new(fabric, Integration::Resonant(BUILD_NODES));
-        Self::build(|wi, wo| patch.eval(wi, wo))
+        Self::build(|wi, wo| patch.eval(wi, wo)).with_support(Support::of_fabric(fabric))
     }
 
     /// The sampler of a baked table's fabric, built from the table's f32 lookup (its batch
@@ -229,11 +249,27 @@ impl Sampler {
         Self::build_batched(|pairs, out| {
             crate::measure::accuracy::lookup_batch_f64(table, pairs, out)
         })
+        .with_support(Support::of_fabric(&table.fabric))
+    }
+
+    /// This sampler with its density 0 outside `support` (the data's support block
+    /// rewritten).
+    fn with_support(mut self, support: Support) -> Self {
+        self.data.truncate(SUPPORT_BASE);
+        let curves = [support.curve(0), support.curve(1)];
+        self.data
+            .push(if support.is_everywhere() { 0.0 } else { 1.0 });
+        self.data.extend(curves.map(|c| c.len() as f32));
+        for &(start, end) in curves.into_iter().flatten() {
+            self.data.extend([start as f32, end as f32]);
+        }
+        self.support = support;
+        self
     }
 
     /// A sampler whose cell probabilities follow `f(wi, wo)` (RGB, the patch transfer; its
-    /// mean over the channels is used). Nodes in parallel, each computed alone: the result
-    /// does not depend on the thread count.
+    /// mean over the channels is used), with no restriction of its support. Nodes in
+    /// parallel, each computed alone: the result does not depend on the thread count.
     pub fn build(f: impl Fn(DVec3, DVec3) -> DVec3 + Sync) -> Self {
         Self::build_batched(|pairs, out| {
             for (value, &(wi, wo)) in out.iter_mut().zip(pairs) {
@@ -256,7 +292,9 @@ impl Sampler {
             .collect();
         Self {
             data: nodes.concat(),
+            support: Support::everywhere(),
         }
+        .with_support(Support::everywhere())
     }
 
     /// One node's CDFs for outgoing direction `wo`.
@@ -330,9 +368,10 @@ impl Sampler {
         (rows[r + 1] as f64 - rows[r] as f64) * (columns[c + 1] as f64 - columns[c] as f64)
     }
 
-    /// The density at `wi` (w.z > 0) of the mixture of `nodes` (one wo's bilinear weights):
-    /// wi's cell and its solid angle are the same in every node, so they are found once.
-    fn mixture_pdf(&self, nodes: &[(usize, f64); 4], wi: DVec3) -> f64 {
+    /// The density at `wi` (w.z > 0, inside `lunes`) of the mixture of `nodes` (one wo's
+    /// bilinear weights) and the cosine share on `lunes`: wi's cell and its solid angle are
+    /// the same in every node, so they are found once.
+    fn mixture_pdf(&self, nodes: &[(usize, f64); 4], lunes: &Lunes, wi: DVec3) -> f64 {
         let r = ((elevation_of(wi) / FRAC_PI_2 * ROWS as f64) as usize).min(ROWS - 1);
         let c = ((azimuth_of(wi) / TAU * COLUMNS as f64) as usize).min(COLUMNS - 1);
         let table: f64 = nodes
@@ -340,28 +379,34 @@ impl Sampler {
             .filter(|&&(_, w)| w > 0.0)
             .map(|&(n, w)| w * self.cell_probability(n, r, c))
             .sum();
-        COSINE_SHARE * wi.z / PI + (1.0 - COSINE_SHARE) * table / cell_solid_angle(r)
+        COSINE_SHARE * lunes.cosine_pdf(wi) + (1.0 - COSINE_SHARE) * table / cell_solid_angle(r)
     }
 
     /// `pdf(wi | wo)` per unit solid angle, as [`Sampler::sample`] draws it; 0 when either
-    /// direction is not above the horizon. Both unit, in the patch frame.
+    /// direction is not above the horizon or wi is outside F's support. Both unit, in the
+    /// patch frame.
     pub fn pdf(&self, wo: DVec3, wi: DVec3) -> f64 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
-        self.mixture_pdf(&node_weights(wo), wi)
+        let lunes = self.support.lunes(wo);
+        if !lunes.contains(wi) {
+            return 0.0;
+        }
+        self.mixture_pdf(&node_weights(wo), &lunes, wi)
     }
 
     /// A direction drawn for unit `wo` from three uniform numbers in [0, 1), and its density;
-    /// `None` when `wo` is not above the horizon or the draw lands on the horizon itself.
+    /// `None` when `wo` is not above the horizon, the draw lands on the horizon itself, or a
+    /// table draw lands outside F's support.
     pub fn sample(&self, wo: DVec3, u: [f64; 3]) -> Option<Sample> {
         if wo.z <= 0.0 {
             return None;
         }
         let weights = node_weights(wo);
+        let lunes = self.support.lunes(wo);
         let wi = if u[2] < COSINE_SHARE {
-            // Cosine density: z² uniform (Malley's method in z and azimuth).
-            direction_at_z((1.0 - u[0]).sqrt(), u[1] * TAU)
+            lunes.sample_cosine([u[0], u[1]], u[2] / COSINE_SHARE)?
         } else {
             let pick = (u[2] - COSINE_SHARE) / (1.0 - COSINE_SHARE);
             let node = self.node(pick_node(&weights, pick));
@@ -370,10 +415,10 @@ impl Sampler {
             let z = row_z(r) + ur * (row_z(r + 1) - row_z(r));
             direction_at_z(z, (c as f64 + uc) * TAU / COLUMNS as f64)
         };
-        if wi.z <= 0.0 {
+        if wi.z <= 0.0 || !lunes.contains(wi) {
             return None;
         }
-        let pdf = self.mixture_pdf(&weights, wi);
+        let pdf = self.mixture_pdf(&weights, &lunes, wi);
         (pdf > 0.0).then_some(Sample { wi, pdf })
     }
 
@@ -390,6 +435,7 @@ impl Sampler {
              const SAMPLING_ROWS: u32 = {ROWS}u;\n\
              const SAMPLING_COLUMNS: u32 = {COLUMNS}u;\n\
              const SAMPLING_NODE_STRIDE: u32 = {NODE_STRIDE}u;\n\
+             const SAMPLING_SUPPORT_BASE: u32 = {SUPPORT_BASE}u;\n\
              const SAMPLING_COSINE_SHARE: f32 = {};\n\
              const SAMPLING_TAP_ELEVATIONS: u32 = {}u;\n\
              const SAMPLING_TAP_AZIMUTHS: u32 = {}u;\n\
@@ -402,197 +448,4 @@ impl Sampler {
             wgsl_f32(taps::LOG2_SOLID_ANGLE_SPAN as f64),
         )
     }
-}
-
-/// The directional albedo `∫ F(wi, wo) dwi` (RGB) over the upper hemisphere for `wo`,
-/// estimated by importance sampling with `samples` stratified draws (a 2D grid in u1, u2,
-/// u3 by the Hammersley rule) of `sampler`, F by `f`. Also returns the standard deviation of
-/// the mean channel of one weight F/pdf, which bounds the estimate's error.
-pub fn directional_albedo(
-    sampler: &Sampler,
-    f: impl Fn(DVec3, DVec3) -> DVec3,
-    wo: DVec3,
-    samples: usize,
-) -> (DVec3, f64) {
-    let mut sum = DVec3::ZERO;
-    let (mut mean, mut m2) = (0.0, 0.0);
-    for k in 0..samples {
-        let u = hammersley(k as u32, samples as u32);
-        let weight = sampler
-            .sample(wo, u)
-            .map(|s| f(s.wi, wo) / s.pdf)
-            .unwrap_or(DVec3::ZERO);
-        sum += weight;
-        // Welford's running variance of the channel mean.
-        let x = (weight.x + weight.y + weight.z) / 3.0;
-        let delta = x - mean;
-        mean += delta / (k + 1) as f64;
-        m2 += delta * (x - mean);
-    }
-    let n = samples.max(1) as f64;
-    (sum / n, (m2 / (n - 1.0).max(1.0)).sqrt())
-}
-
-/// Point `k` of an `n`-point 3D Hammersley set: (k + ½)/n, the base-2 radical inverse of k,
-/// the base-3 radical inverse of k; all in [0, 1).
-pub fn hammersley(k: u32, n: u32) -> [f64; 3] {
-    let radical = |mut k: u32, base: u32| {
-        let (mut inv, mut f) = (0.0, 1.0 / base as f64);
-        while k > 0 {
-            inv += (k % base) as f64 * f;
-            k /= base;
-            f /= base as f64;
-        }
-        inv
-    };
-    [(k as f64 + 0.5) / n as f64, radical(k, 2), radical(k, 3)]
-}
-
-/// Outgoing elevations (degrees) at which [`albedo_curve`] measures the albedo.
-pub const ALBEDO_ELEVATIONS_DEG: [f64; 11] = [
-    1.0, 2.0, 5.0, 10.0, 20.0, 30.0, 45.0, 60.0, 75.0, 85.0, 90.0,
-];
-/// Outgoing azimuths per elevation, evenly spaced from thread 1.
-pub const ALBEDO_AZIMUTHS: usize = 8;
-
-/// The directional albedo at one outgoing elevation.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AlbedoRow {
-    pub elevation_deg: f64,
-    /// Mean over the azimuths of ∫F dwi (RGB).
-    pub mean: DVec3,
-    /// The largest channel mean of ∫F dwi over the azimuths, and the azimuth (degrees).
-    pub max: (f64, f64),
-    /// The largest standard error (channel mean) of one azimuth's estimate.
-    pub standard_error: f64,
-}
-
-/// The directional albedo `∫ F(wi, wo) dwi` of a fabric over outgoing elevation
-/// ([`ALBEDO_ELEVATIONS_DEG`] × [`ALBEDO_AZIMUTHS`] azimuths), by importance sampling with
-/// `samples` draws per direction; directions in parallel, deterministic.
-pub fn albedo_curve(
-    sampler: &Sampler,
-    f: impl Fn(DVec3, DVec3) -> DVec3 + Sync,
-    samples: usize,
-) -> Vec<AlbedoRow> {
-    ALBEDO_ELEVATIONS_DEG
-        .iter()
-        .map(|&elevation| {
-            let estimates: Vec<(DVec3, f64, f64)> = (0..ALBEDO_AZIMUTHS)
-                .into_par_iter()
-                .map(|k| {
-                    let azimuth = 360.0 * k as f64 / ALBEDO_AZIMUTHS as f64;
-                    let wo = direction(elevation.to_radians(), azimuth.to_radians());
-                    let (albedo, sigma) = directional_albedo(sampler, &f, wo, samples);
-                    (albedo, sigma / (samples as f64).sqrt(), azimuth)
-                })
-                .collect();
-            let mean = estimates.iter().map(|e| e.0).sum::<DVec3>() / estimates.len() as f64;
-            let channel_mean = |v: DVec3| (v.x + v.y + v.z) / 3.0;
-            let max = estimates
-                .iter()
-                .map(|e| (channel_mean(e.0), e.2))
-                .fold((f64::MIN, 0.0), |a, b| if b.0 > a.0 { b } else { a });
-            let standard_error = estimates.iter().map(|e| e.1).fold(0.0, f64::max);
-            AlbedoRow {
-                elevation_deg: elevation,
-                mean,
-                max,
-                standard_error,
-            }
-        })
-        .collect()
-}
-
-/// Rows (outgoing elevations) of an [`AlbedoMap`]: row i at elevation 90°·(i/(rows − 1))^1.5,
-/// dense at the horizon where the albedo changes fastest (as the sampler's nodes), row 0 at
-/// [`GRAZING_NODE_DEG`] (F vanishes at exactly 0°). A fetch's row coordinate is
-/// (elevation/90°)^(2/3)·(rows − 1).
-pub const ALBEDO_MAP_ELEVATIONS: usize = 33;
-/// Columns (outgoing azimuths) of an [`AlbedoMap`]: column j at 360°·j/(columns − 1), so the
-/// last column repeats the first and a clamped bilinear fetch wraps the azimuth.
-pub const ALBEDO_MAP_AZIMUTHS: usize = 65;
-
-/// The directional albedo `∫ F(wi, wo) dwi` (RGB) on a grid of outgoing directions in the
-/// cloth frame: what a uniform ambient radiance `L_a` reflects, `L_o(wo) = L_a · albedo(wo)`
-/// (the model's F holds every cosine). Row-major, [`ALBEDO_MAP_AZIMUTHS`] columns of azimuth
-/// from thread 1 (x) towards thread 2 (y) per row of elevation ([`ALBEDO_MAP_ELEVATIONS`]).
-#[derive(Clone, Debug, PartialEq)]
-pub struct AlbedoMap {
-    pub rgb: Vec<[f32; 3]>,
-    /// The largest standard error (channel mean) of one node's estimate.
-    pub standard_error: f64,
-}
-
-impl AlbedoMap {
-    /// The map of F = `f`, each node by [`directional_albedo`] with `samples` draws of
-    /// `sampler`; nodes in parallel, deterministic.
-    pub fn build(
-        sampler: &Sampler,
-        f: impl Fn(DVec3, DVec3) -> DVec3 + Sync,
-        samples: usize,
-    ) -> Self {
-        let nodes: Vec<([f32; 3], f64)> = (0..ALBEDO_MAP_ELEVATIONS * ALBEDO_MAP_AZIMUTHS)
-            .into_par_iter()
-            .map(|n| {
-                let (i, j) = (n / ALBEDO_MAP_AZIMUTHS, n % ALBEDO_MAP_AZIMUTHS);
-                let elevation = grid_elevation(i, ALBEDO_MAP_ELEVATIONS);
-                let azimuth = TAU * j as f64 / (ALBEDO_MAP_AZIMUTHS - 1) as f64;
-                let (albedo, sigma) =
-                    directional_albedo(sampler, &f, direction(elevation, azimuth), samples);
-                (albedo.as_vec3().to_array(), sigma / (samples as f64).sqrt())
-            })
-            .collect();
-        Self {
-            rgb: nodes.iter().map(|n| n.0).collect(),
-            standard_error: nodes.iter().map(|n| n.1).fold(0.0, f64::max),
-        }
-    }
-
-    /// The map's bilinear interpolation at `wo` (unit, wo.z ≥ 0), as a GPU's clamped
-    /// bilinear fetch of the map as a texture reads it.
-    pub fn at(&self, wo: DVec3) -> DVec3 {
-        let y = grid_row(wo, ALBEDO_MAP_ELEVATIONS);
-        let x = azimuth_of(wo) / TAU * (ALBEDO_MAP_AZIMUTHS - 1) as f64;
-        let (i0, j0) = (
-            (y as usize).min(ALBEDO_MAP_ELEVATIONS - 2),
-            (x as usize).min(ALBEDO_MAP_AZIMUTHS - 2),
-        );
-        let (fy, fx) = (y - i0 as f64, x - j0 as f64);
-        let node =
-            |i: usize, j: usize| DVec3::from(self.rgb[i * ALBEDO_MAP_AZIMUTHS + j].map(f64::from));
-        (node(i0, j0) * (1.0 - fx) + node(i0, j0 + 1) * fx) * (1.0 - fy)
-            + (node(i0 + 1, j0) * (1.0 - fx) + node(i0 + 1, j0 + 1) * fx) * fy
-    }
-}
-
-/// The albedo curve as a text table (what `clothbake albedo` prints for one fabric).
-pub fn describe_albedo(name: &str, rows: &[AlbedoRow], samples: usize) -> String {
-    use std::fmt::Write;
-    let mut out = format!(
-        "{name}: directional albedo ∫F dwi over outgoing elevation (mean of {ALBEDO_AZIMUTHS} \
-         azimuths, {samples} importance samples each)\n  elevation        R        G        B   \
-         max (RGB mean) at azimuth   std. error\n"
-    );
-    for row in rows {
-        let _ = writeln!(
-            out,
-            "  {:>8.0}° {:>8.4} {:>8.4} {:>8.4}   {:>8.4} at {:>5.1}°        {:.1e}",
-            row.elevation_deg,
-            row.mean.x,
-            row.mean.y,
-            row.mean.z,
-            row.max.0,
-            row.max.1,
-            row.standard_error
-        );
-    }
-    if let Some(top) = rows.iter().max_by(|a, b| a.max.0.total_cmp(&b.max.0)) {
-        let _ = writeln!(
-            out,
-            "  maximum: {:.4} (RGB mean) at elevation {:.0}°, azimuth {:.1}°",
-            top.max.0, top.elevation_deg, top.max.1
-        );
-    }
-    out
 }

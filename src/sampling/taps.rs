@@ -19,7 +19,7 @@
 //! probability is 1/K, so strata are small where F is large, and a run of a Hilbert curve is
 //! a compact patch of the sphere, so a stratum is compact: what one isotropic filtered fetch
 //! can stand for. (Strata cut by rows and columns of the CDF instead are bands or wedges
-//! whose best shape depends on the lobe: docs/sampling.md#what-was-tried.)
+//! whose best shape depends on the lobe: docs/notebook/2026-12-07-sampling.md#what-was-tried.)
 //!
 //! [`POINTS_PER_NODE`] points, evenly spaced in probability along the curve (inside a cell
 //! along the cell's own Hilbert curve, so uniformly in solid angle), give each stratum's
@@ -42,8 +42,8 @@
 //! b-weighted blend of the four nodes' taps k (direction renormalised, log2 of the solid
 //! angle and the weight blended), so the estimate is continuous in `wo`. Neighbouring nodes'
 //! strata k cover nearly the same part of the sphere, so the blend tiles it as each node
-//! does. (Picking one node per k instead, which reads a quarter as much, measured 0.3–1.0
-//! point higher at K = 128: the picked strata overlap and leave holes.)
+//! does. (Picking one node per k instead, which reads a quarter as much, measured worse: the
+//! picked strata overlap and leave holes; docs/notebook/2026-12-07-figures-from-comments.md.)
 //!
 //! # Weights matched to F's moments
 //! A fetch reads the map blurred over about its stratum, which moves light from F's peak to
@@ -282,7 +282,7 @@ fn strata_taps(
 /// so that the two join into one closed curve around the azimuth. Cells close along the
 /// curve are close on the sphere, so any interval of the curve is a compact patch. (Cells
 /// split in two along the azimuth, 2.8° square at the horizon rather than 2.8° × 5.6°,
-/// measured no better: docs/sampling.md#what-was-tried.)
+/// measured no better: docs/notebook/2026-12-07-sampling.md#what-was-tried.)
 fn curve_order() -> Vec<(usize, usize)> {
     const _: () = assert!(COLUMNS == 2 * ROWS && ROWS.is_power_of_two());
     (0..2)
@@ -408,8 +408,8 @@ fn locate(sums: &[f64], target: f64) -> (usize, f64) {
 }
 
 /// Points at which F is evaluated per node, over all its strata (at least one per stratum):
-/// twice as many moved the image error by at most 0.1 point at K = 96, half as many cost
-/// 0.2–0.4 (docs/sampling.md#what-was-tried).
+/// twice as many barely moved the image error, half as many raised it
+/// (docs/notebook/2026-12-07-sampling.md#what-was-tried).
 pub const POINTS_PER_NODE: usize = 512;
 
 /// Points per stratum for K = `samples`.
@@ -480,9 +480,10 @@ mod tests {
 
     /// The taps' strata tile the hemisphere (their solid angles sum to 2π) and their weights
     /// integrate F over it: the mean weight of a node is ∫F dwi, to the accuracy of the
-    /// points inside each stratum. For this lobe, narrower than the sampler's cells, that was
-    /// at most 2.7% at these nodes with K = 16 (a deterministic quadrature error of the 512
-    /// points per node, largest at the zenith; 0.62% with 1,024); bound 4%.
+    /// points inside each stratum. For this lobe, narrower than the sampler's cells, that is a
+    /// deterministic quadrature error of the points per node, largest at the zenith and
+    /// shrinking with more points; the bound sits above the worst measured
+    /// (docs/notebook/2026-12-07-figures-from-comments.md).
     #[test]
     fn the_taps_integrate_f_over_strata_that_tile_the_hemisphere() {
         let sampler = Sampler::build(lobe);

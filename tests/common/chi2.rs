@@ -31,16 +31,39 @@ pub const AZIMUTH_BINS: usize = 32;
 /// Bins expecting fewer draws are merged (the chi-square approximation needs ~5 per bin).
 pub const MIN_EXPECTED: f64 = 5.0;
 
+/// Probes per side of a piece when looking for the support's edge inside it.
+const PROBES: usize = 9;
+/// Midpoints per side of the sub-grid that integrates a piece the support's edge crosses.
+pub const FINE: usize = 96;
+
 /// The integral of `pdf` over every test bin (row-major, z then azimuth). The sampler's
 /// density is a constant per cell plus the cosine share's term linear in z, so splitting
 /// each bin at the sampler's row edges and evaluating the density at the midpoint of each
 /// piece integrates it exactly (up to rounding); the sampler's sectors nest in the bins.
+///
+/// Where F's support is smaller than the hemisphere the density is also cut by the
+/// support's edge (great circles through a thread's axis), which crosses cells: 0 on one
+/// side, or the cosine share's term counted once or twice where two lunes meet. Such a
+/// piece is found by the density not having its in-cell form (the same in azimuth, linear in
+/// z) on a grid of probes reaching the piece's corners, and is integrated by the midpoint
+/// rule on a fine sub-grid instead: its error is then that of the sub-cells the edge crosses,
+/// a small part of a few pieces, where the midpoint of a whole piece could be off by all of
+/// it.
 pub fn expected_mass(pdf: impl Fn(DVec3) -> f64) -> Vec<f64> {
+    expected_mass_at(pdf, FINE)
+}
+
+/// [`expected_mass`] with `fine` midpoints per side in the pieces the support's edge crosses.
+pub fn expected_mass_at(pdf: impl Fn(DVec3) -> f64, fine: usize) -> Vec<f64> {
     let sampler_row_z: Vec<f64> = (0..=ROWS)
         .map(|r| (r as f64 * FRAC_PI_2 / ROWS as f64).sin())
         .collect();
     let sectors_per_bin = COLUMNS / AZIMUTH_BINS;
     let sector = TAU / COLUMNS as f64;
+    let at = |z: f64, azimuth: f64| {
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        pdf(DVec3::new(r * azimuth.cos(), r * azimuth.sin(), z))
+    };
     let mut mass = vec![0.0; Z_BINS * AZIMUTH_BINS];
     for zb in 0..Z_BINS {
         let (z0, z1) = (zb as f64 / Z_BINS as f64, (zb + 1) as f64 / Z_BINS as f64);
@@ -54,18 +77,48 @@ pub fn expected_mass(pdf: impl Fn(DVec3) -> f64) -> Vec<f64> {
         for ab in 0..AZIMUTH_BINS {
             let mut sum = 0.0;
             for piece in edges.windows(2) {
-                let z = 0.5 * (piece[0] + piece[1]);
                 for s in 0..sectors_per_bin {
-                    let azimuth = ((ab * sectors_per_bin + s) as f64 + 0.5) * sector;
-                    let r = (1.0 - z * z).sqrt();
-                    let w = DVec3::new(r * azimuth.cos(), r * azimuth.sin(), z);
-                    sum += pdf(w) * (piece[1] - piece[0]) * sector;
+                    let a0 = (ab * sectors_per_bin + s) as f64 * sector;
+                    let (lo, hi) = (piece[0], piece[1]);
+                    let area = (hi - lo) * sector;
+                    if in_cell_form(|fz, fa| at(lo + fz * (hi - lo), a0 + fa * sector)) {
+                        sum += at(0.5 * (lo + hi), a0 + 0.5 * sector) * area;
+                    } else {
+                        let n = fine as f64;
+                        let mut sub = 0.0;
+                        for i in 0..fine {
+                            let z = lo + (i as f64 + 0.5) / n * (hi - lo);
+                            for k in 0..fine {
+                                sub += at(z, a0 + (k as f64 + 0.5) / n * sector);
+                            }
+                        }
+                        sum += sub * area / (n * n);
+                    }
                 }
             }
             mass[zb * AZIMUTH_BINS + ab] = sum;
         }
     }
     mass
+}
+
+/// Whether `value(fz, fa)` over a piece (fz, fa in [0, 1] across its z and azimuth spans)
+/// has the density's form inside one cell and the support: the same across the azimuth, and
+/// linear in z. Probed on a grid from edge to edge (inset by a hair, so the probes stay in
+/// the piece's cell), to the rounding of f64 arithmetic.
+fn in_cell_form(value: impl Fn(f64, f64) -> f64) -> bool {
+    const INSET: f64 = 1e-9;
+    let f = |i: usize| INSET + (1.0 - 2.0 * INSET) * i as f64 / (PROBES - 1) as f64;
+    let rows: Vec<Vec<f64>> = (0..PROBES)
+        .map(|i| (0..PROBES).map(|k| value(f(i), f(k))).collect())
+        .collect();
+    let scale = rows.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * scale;
+    let (first, last) = (rows[0][0], rows[PROBES - 1][0]);
+    rows.iter().enumerate().all(|(i, row)| {
+        let t = i as f64 / (PROBES - 1) as f64;
+        row.iter().all(|&v| close(v, row[0])) && close(row[0], first + t * (last - first))
+    })
 }
 
 /// The test bin of a direction above the horizon.

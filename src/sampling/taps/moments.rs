@@ -19,7 +19,7 @@
 //! channels; then clamped at 0. The ridge λ (relative to the mean of (AS)(AS)ᵀ's diagonal)
 //! keeps the weights from ringing: exact moment matching (λ → 0) made them oscillate, and
 //! order 10 sharpened the hard edges of the interior's windows and the overcast horizon
-//! (docs/sampling.md#what-was-tried).
+//! (docs/notebook/2026-12-07-sampling.md#what-was-tried).
 
 use super::Tap;
 use glam::DVec3;
