@@ -20,7 +20,7 @@ pub struct Args {
     /// Fabric file (TOML) to use instead of the built-in fabrics.
     #[arg(long)]
     fabrics: Option<PathBuf>,
-    /// Table layout (default: the scene's, else the default layout).
+    /// Table layout (default: the scene's, else split_frame).
     #[arg(long, value_parser = parse_layout)]
     layout: Option<Layout>,
     /// Layout resolution (default: the layout's own).
