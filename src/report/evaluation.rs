@@ -156,7 +156,8 @@ mod tests {
             read(r#"{"family":"resonant","nodes":{"surface":6,"volume":5,"base":2}}"#),
             Evaluation::evaluator("resonant:6/5/2")
         );
-        let table = r#"{"family":"table","layout":"grid4d","resolution":12}"#;
-        assert_eq!(serde_json::to_string(&read(table)).unwrap(), table);
+        let layout = crate::table::Layout::DEFAULT.name();
+        let table = format!(r#"{{"family":"table","layout":"{layout}","resolution":12}}"#);
+        assert_eq!(serde_json::to_string(&read(&table)).unwrap(), table);
     }
 }

@@ -91,8 +91,8 @@ pub struct ReportConfig {
     /// Bakes per table whose median is the bake time.
     pub bake_repetitions: usize,
     /// A bake that takes longer than this (seconds) is not repeated: it bounds the run time
-    /// (grid4d at 24 takes about a minute on two cores), and the run-to-run spread of a
-    /// bake that long is small next to its length.
+    /// (the largest tables take the longest), and the run-to-run spread of a bake that long
+    /// is small next to its length.
     pub repeat_bakes_below_seconds: f64,
     /// The bake timed on one and on two threads.
     pub speedup_layout: Layout,
