@@ -13,9 +13,9 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "report")]
     out: PathBuf,
-    /// Measure nothing: write OUT/REPORT.md and OUT/report.json again from the measurements
-    /// in OUT/report.json, with the comparisons derived again (after a change to how the
-    /// report is written).
+    /// Measure nothing: write OUT/REPORT.md, OUT/report.json and the plots again from the
+    /// measurements in OUT/report.json, with the comparisons derived again (after a change to
+    /// how the report is written).
     #[arg(long, conflicts_with = "quick")]
     rerender: bool,
 }

@@ -83,11 +83,12 @@ pub(super) fn json(report: &Report) -> Result<String, ReportError> {
         .map_err(|e| ReportError::Config(format!("cannot serialise the report: {e}")))
 }
 
-/// Renders `out/REPORT.md` again from the measurements in `out/report.json`, measuring
-/// nothing, and writes both files atomically with the comparisons derived again; returns the
-/// report read. The plots are left as they are.
+/// Renders `out/REPORT.md` and the plots again from the measurements in `out/report.json`,
+/// measuring nothing, and writes REPORT.md and report.json atomically with the comparisons
+/// derived again; returns the report read.
 pub fn rerender(out: &Path) -> Result<Report, ReportError> {
     let report = read(out)?;
+    super::plots::write_all(&report, out)?;
     write_file(out, markdown::FILE_NAME, &markdown::render(&report))?;
     write_file(out, JSON_FILE_NAME, &json(&report)?)?;
     Ok(report)

@@ -20,12 +20,13 @@ pub(super) const LAYOUT_COLOURS: [RGBColor; 4] = [
     RGBColor(148, 103, 189),
 ];
 /// Evaluator unit colours, in the order of the units with a report plan
-/// ([`crate::report::planned_units`]).
+/// ([`crate::report::planned_units`]): none of them a layout's, so that a unit's series and a
+/// layout's read apart in one panel.
 pub(super) const UNIT_COLOURS: [RGBColor; 4] = [
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
     RGBColor(255, 127, 14),
     RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(188, 189, 34),
 ];
 pub(super) const DIRECT_COLOUR: RGBColor = RGBColor(90, 90, 90);
 pub(super) const LIGHT_LINE: RGBColor = RGBColor(245, 245, 245);
@@ -313,3 +314,15 @@ pub(super) type ErrorOf = fn(&super::super::Point) -> f64;
 
 /// Draws one plot of a report into a file.
 pub(super) type Plot = fn(&Report, &Path) -> PlotResult;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_unit_shares_a_colour_with_a_layout() {
+        for unit in UNIT_COLOURS {
+            assert!(!LAYOUT_COLOURS.contains(&unit), "{unit:?}");
+        }
+    }
+}
