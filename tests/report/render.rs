@@ -89,13 +89,17 @@ fn rerender_rewrites_report_md_from_report_json_alone() {
     assert_eq!(report.fabrics.len(), report.fabric_names.len());
     let md = std::fs::read_to_string(dir.join(markdown::FILE_NAME)).unwrap();
     assert_same_text(&md, &committed_md(), "REPORT.md written by rerender");
-    // Written atomically: nothing but the two files is left behind.
+    // Written atomically: nothing but the report's files (REPORT.md, report.json and the
+    // plots) is left behind.
     let mut names: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    assert_eq!(names, [markdown::FILE_NAME, report::JSON_FILE_NAME]);
+    let mut files = report.files.clone();
+    files.sort();
+    assert_eq!(names, files);
+    assert!(files.iter().any(|f| f.ends_with(".png")), "{files:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -275,14 +275,14 @@ fn tiny_report_writes_json_markdown_and_plots() {
     }
 
     // Series colours of the plots (src/report/plots/chart.rs): thread_frame blue, grid4d
-    // red, the first unit with a report plan (paper mode) green, the second (resonant)
-    // purple.
+    // red, the first unit with a report plan (paper mode) orange, the second (resonant)
+    // brown.
     let blue = [31, 119, 180];
     let red = [214, 39, 40];
-    let green = [44, 160, 44];
-    let purple = [148, 103, 189];
+    let orange = [255, 127, 14];
+    let brown = [140, 86, 75];
     check_png(&out.join("error_vs_size.png"), &[blue, red]);
-    check_png(&out.join("error_vs_cost.png"), &[blue, red, green, purple]);
+    check_png(&out.join("error_vs_cost.png"), &[blue, red, orange, brown]);
     check_png(&out.join("bake_time.png"), &[blue]);
     let files: Vec<&str> = json["files"]
         .as_array()
