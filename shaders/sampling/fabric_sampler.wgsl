@@ -41,13 +41,13 @@ struct SamplingSupport {
     mass: vec2<f32>,
 }
 
-// Thread j's tangent t0 (x for thread 1, y for thread 2) and its axis b.
+// Thread j's tangent t0 and its axis b (`thread_axes`, as the generated constants give them).
 fn sampling_thread_t0(j: u32) -> vec3<f32> {
-    return select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), j == 0u);
+    return select(SAMPLING_T0_1, SAMPLING_T0_0, j == 0u);
 }
 
 fn sampling_thread_b(j: u32) -> vec3<f32> {
-    return select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), j == 0u);
+    return select(SAMPLING_B_1, SAMPLING_B_0, j == 0u);
 }
 
 // Each thread's α = inf and A = sup of its curve's intervals inside wo's window

@@ -64,7 +64,7 @@ fn sampling_tap(at: SamplingTapNodes, k: u32, count: u32) -> SamplingTap {
 // −½ lowers the worst errors (studio, interior) by up to a third, and leaves the skies
 // slightly worse but within their goal (docs/notebook/2026-12-07-sampling.md#what-was-tried).
 // The taps' weights assume this blur, a variance of Ωs/8 per axis
-// (`FETCH_VARIANCE_PER_SOLID_ANGLE` in src/sampling/moments.rs): change both together.
+// (`FETCH_VARIANCE_PER_SOLID_ANGLE` in src/sampling/taps/moments.rs): change both together.
 fn sampling_lod(log2_solid_angle: f32, texel: f32) -> f32 {
     return 0.5 * (log2_solid_angle - log2(texel)) - 0.5;
 }

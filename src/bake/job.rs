@@ -5,7 +5,9 @@
 use crate::bake::manifest::{Entry, Manifest};
 use crate::bake::{BakeError, bake, bake_rows};
 use crate::formats::fabric_toml::{FabricFileError, FabricSet};
-use crate::formats::table_exr::{TableFileError, expected_hash, read_table, write_table};
+use crate::formats::table_exr::{
+    TableFileError, expected_hash, fabric_table_file, read_table, write_table,
+};
 use crate::measure::accuracy::{TableError, measure};
 use crate::model::Fabric;
 use crate::scene::Scene;
@@ -210,8 +212,8 @@ pub fn run(
     let mut manifest = Manifest::load(&job.out);
     let layout = job.layout;
     for fabric in &job.fabrics {
-        let path = job.out.join(format!("{}.exr", fabric.name));
-        remove_stale_temporaries(&job.out, &format!("{}.exr", fabric.name));
+        let path = job.out.join(fabric_table_file(&fabric.name));
+        remove_stale_temporaries(&job.out, &fabric_table_file(&fabric.name));
         if !job.force
             && let Some(entry) = up_to_date(&manifest, &path, fabric, layout, job.resolution)
         {
@@ -276,7 +278,7 @@ pub fn run(
         };
         manifest
             .tables
-            .insert(format!("{}.exr", fabric.name), entry.clone());
+            .insert(fabric_table_file(&fabric.name), entry.clone());
         manifest.save(&job.out).map_err(|source| BakeJobError::Io {
             path: job.out.clone(),
             source,

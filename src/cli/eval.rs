@@ -2,7 +2,7 @@
 
 use super::CommandResult;
 use super::options::{INTEGRATION_WORDS, NodeArgs, older_spelling, older_words};
-use clothbake::evaluator::{self, EvaluationContext, EvaluatorSpec};
+use clothbake::evaluator::{self, EvaluationContext, EvaluatorSpec, paper};
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::formats::json_lines::{EvalOutput, eval_stream};
 use clothbake::formats::table_exr::read_table;
@@ -25,7 +25,7 @@ pub struct Args {
     #[arg(long, value_parser = older_words(INTEGRATION_WORDS))]
     integration: Option<String>,
     /// Paper mode: N stratified samples per thread (alone, it selects paper mode).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(paper::MAX_SAMPLES)))]
     samples: Option<u32>,
     #[command(flatten)]
     nodes: NodeArgs,

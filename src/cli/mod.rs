@@ -51,7 +51,7 @@ enum Command {
     /// Measure a table's error against the direct evaluation of the fabric it records.
     Check(check::Args),
     /// Print the lookup specialised for a table (`fn cloth_brdf(wi, wo)` and its bindings,
-    /// see src/gpu/table.rs), to use the table in another engine: WGSL, or GLSL, HLSL or
+    /// see src/evaluator/table/gpu.rs), to use the table in another engine: WGSL, or GLSL, HLSL or
     /// MSL translated by naga together with a compute kernel over pairs.
     Wgsl(wgsl::Args),
     /// Make a fabric from a weave draft (a named weave or a WIF file) and yarn knobs, or
@@ -61,16 +61,18 @@ enum Command {
     Fit(fit::Args),
     #[cfg(feature = "runtime")]
     /// Measure speed against error for every fabric (tables of each layout over a range of
-    /// resolutions, paper mode at N = 1..64, bake times) and write REPORT.md, report.json
-    /// and PNG plots.
+    /// resolutions, the evaluators' settings their units list, bake times) and write
+    /// REPORT.md, report.json and PNG plots.
     Report(report::Args),
     #[cfg(feature = "runtime")]
-    /// Render the scene's cloth headless to PNG by table lookup (or the direct shader), print
-    /// the adapter and the median GPU time per frame; with --reference compare with the CPU.
+    /// Render the scene's cloth headless to PNG by table lookup (or any evaluator's GPU form,
+    /// --evaluator), print the adapter and the median GPU time per frame; with --reference
+    /// compare with the CPU.
     Render(render::Args),
     #[cfg(feature = "runtime")]
-    /// Open an interactive window showing the scene's cloth shaded by table lookup (or by the
-    /// direct shader: key D; the resonant shader: key G). Keys are listed at start.
+    /// Open an interactive window showing the scene's cloth shaded by the evaluators of
+    /// --evaluator (table lookup, paper mode and the resonant quadrature by default; key V
+    /// cycles them, +/- their finer or coarser setting). Keys are listed at start.
     View(view::Args),
 }
 

@@ -28,6 +28,13 @@ pub const SHADER_WORDS: &[(&str, &str)] = &[
     ("constant", "constant"),
 ];
 
+/// The value of `--shader` as given, else `paper` where `--samples` is given alone (as
+/// `eval --samples` selects paper mode), else `lookup`.
+#[cfg(feature = "runtime")]
+pub fn older_shader_word(shader: Option<&str>, samples: Option<u32>) -> &str {
+    shader.unwrap_or(if samples.is_some() { "paper" } else { "lookup" })
+}
+
 /// The values of the older option `eval --integration` and the evaluator each stands for.
 pub const INTEGRATION_WORDS: &[(&str, &str)] = &[
     ("direct", "direct"),

@@ -1,8 +1,10 @@
 //! `clothbake render`: the scene's cloth rendered headless to PNG.
 
 use super::CommandResult;
-use super::options::{NodeArgs, SHADER_WORDS, SceneArgs, older_spelling, older_words};
-use clothbake::evaluator::{self, EvaluatorSpec};
+use super::options::{
+    NodeArgs, SHADER_WORDS, SceneArgs, older_shader_word, older_spelling, older_words,
+};
+use clothbake::evaluator::{self, EvaluatorSpec, paper};
 use clothbake::render::job::{self, RenderJob};
 use std::path::PathBuf;
 
@@ -29,10 +31,10 @@ pub struct Args {
     evaluator: Option<EvaluatorSpec>,
     /// The older spelling of --evaluator: lookup (table), paper or direct (both paper mode
     /// with --samples per thread), resonant (with the node options), constant.
-    #[arg(long, default_value = "lookup", value_parser = older_words(SHADER_WORDS))]
-    shader: String,
-    /// Tangent samples per thread of --shader paper (default 32).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = older_words(SHADER_WORDS))]
+    shader: Option<String>,
+    /// Tangent samples per thread of paper mode (default 32); alone, it selects paper mode.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(paper::MAX_SHADER_SAMPLES)))]
     samples: Option<u32>,
     #[command(flatten)]
     nodes: NodeArgs,
@@ -55,7 +57,7 @@ pub fn run(args: Args) -> CommandResult {
         Some(spec) => spec.0.clone(),
         None => evaluator::parse(&older_spelling(
             "--shader",
-            &args.shader,
+            older_shader_word(args.shader.as_deref(), args.samples),
             SHADER_WORDS,
             args.samples,
             &args.nodes,

@@ -1,8 +1,10 @@
 //! `clothbake view`: the interactive window.
 
 use super::CommandResult;
-use super::options::{NodeArgs, SHADER_WORDS, SceneArgs, older_spelling, older_words};
-use clothbake::evaluator::{self, EvaluatorSpec};
+use super::options::{
+    NodeArgs, SHADER_WORDS, SceneArgs, older_shader_word, older_spelling, older_words,
+};
+use clothbake::evaluator::{self, EvaluatorSpec, paper};
 use clothbake::viewer::{self, ViewOptions};
 
 /// The evaluators key V cycles through when `--evaluator` names none: the table, paper mode,
@@ -29,8 +31,8 @@ pub struct Args {
     /// resonant (with the node options), constant.
     #[arg(long, value_parser = older_words(SHADER_WORDS))]
     shader: Option<String>,
-    /// Tangent samples per thread of paper mode (default 32).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    /// Tangent samples per thread of paper mode (default 32); alone, it selects paper mode.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(paper::MAX_SHADER_SAMPLES)))]
     samples: Option<u32>,
     #[command(flatten)]
     nodes: NodeArgs,
@@ -40,9 +42,9 @@ pub fn run(args: Args) -> CommandResult {
     let evaluators = if args.evaluator.is_empty() {
         // The older options name the first evaluator; the default list follows it, less the
         // default of the first one's unit.
-        let word = args.shader.as_deref().unwrap_or("lookup");
+        let word = older_shader_word(args.shader.as_deref(), args.samples);
         let spelling = older_spelling("--shader", word, SHADER_WORDS, args.samples, &args.nodes)?;
-        let unit = |spelling: &str| spelling.split(':').next().unwrap_or_default().to_string();
+        let unit = |spelling: &str| evaluator::unit_of(spelling).map(|unit| unit.name);
         let mut evaluators = vec![evaluator::parse(&spelling)?];
         for default in DEFAULT_EVALUATORS {
             if unit(default) != unit(&spelling) {

@@ -188,15 +188,25 @@ pub enum EvaluatorError {
     Gpu(#[from] crate::gpu::GpuError),
 }
 
+/// A spelling's unit name and parameter: `NAME` or `NAME:PARAMETER`.
+pub fn split(spelling: &str) -> (&str, Option<&str>) {
+    match spelling.split_once(':') {
+        Some((name, parameter)) => (name, Some(parameter)),
+        None => (spelling, None),
+    }
+}
+
+/// The registered unit a spelling names (by the text before its ':'), if any.
+pub fn unit_of(spelling: &str) -> Option<&'static EvaluatorUnit> {
+    let (name, _) = split(spelling);
+    EVALUATORS.iter().find(|unit| unit.name == name)
+}
+
 /// Parses an evaluator's spelling: `NAME` or `NAME:PARAMETER` of a registered unit, or a
 /// path ending in `.exr` (a table file).
 pub fn parse(spelling: &str) -> Result<Arc<dyn Evaluator>, EvaluatorError> {
-    let (name, parameter) = match spelling.split_once(':') {
-        Some((name, parameter)) => (name, Some(parameter)),
-        None => (spelling, None),
-    };
-    if let Some(unit) = EVALUATORS.iter().find(|u| u.name == name) {
-        return (unit.parse)(parameter);
+    if let Some(unit) = unit_of(spelling) {
+        return (unit.parse)(split(spelling).1);
     }
     if Path::new(spelling)
         .extension()

@@ -171,6 +171,12 @@ pub fn expected_hash(fabric: &Fabric, layout: Layout, resolution: u32) -> String
     Provenance::new(fabric, layout, resolution).hash
 }
 
+/// The file name of a fabric's table in a tables directory, `NAME.exr`: where `bake` writes
+/// it and `render`, `view` and the `table` evaluator look for it.
+pub fn fabric_table_file(fabric_name: &str) -> String {
+    format!("{fabric_name}.exr")
+}
+
 /// Writes `table` to `path` atomically; returns its provenance hash.
 pub fn write_table(path: &Path, table: &Table) -> std::result::Result<String, TableFileError> {
     let io = |source| TableFileError::Io {

@@ -1,8 +1,8 @@
 //! What a point of the report evaluates F by ([`Evaluation`]), and the registry's units as
-//! the report sees them: the units with a [`ReportPlan`], the baseline among them, a
-//! spelling's unit and a unit's default spelling.
+//! the report sees them: the units with a [`ReportPlan`], the baseline among them and a
+//! unit's default spelling.
 
-use crate::evaluator::{EVALUATORS, EvaluatorUnit, ReportPlan};
+use crate::evaluator::{EVALUATORS, EvaluatorUnit, ReportPlan, unit_of};
 use crate::table::Layout;
 use serde::{Deserialize, Serialize};
 
@@ -18,12 +18,6 @@ pub fn baseline_unit() -> Option<&'static EvaluatorUnit> {
     planned_units()
         .find(|(_, plan)| plan.baseline)
         .map(|(unit, _)| unit)
-}
-
-/// The registered unit a spelling names (the text before its ':').
-pub fn unit_of(spelling: &str) -> Option<&'static EvaluatorUnit> {
-    let name = spelling.split_once(':').map_or(spelling, |(name, _)| name);
-    EVALUATORS.iter().find(|unit| unit.name == name)
 }
 
 /// The spelling a unit's evaluator has without a parameter (its default setting).
@@ -86,10 +80,10 @@ impl Evaluation {
     /// `paper:32`), or a table's resolution.
     pub fn parameter(&self) -> String {
         match self {
-            Evaluation::Evaluator { spelling } => spelling
-                .split_once(':')
-                .map_or(spelling.as_str(), |(_, parameter)| parameter)
-                .to_string(),
+            Evaluation::Evaluator { spelling } => {
+                let (name, parameter) = crate::evaluator::split(spelling);
+                parameter.unwrap_or(name).to_string()
+            }
             Evaluation::Table { resolution, .. } => resolution.to_string(),
         }
     }

@@ -42,7 +42,7 @@ pub mod plots;
 mod summary;
 pub mod timing;
 
-pub use evaluation::{Evaluation, baseline_unit, default_spelling, planned_units, unit_of};
+pub use evaluation::{Evaluation, baseline_unit, default_spelling, planned_units};
 pub use files::{JSON_FILE_NAME, read, rerender};
 pub use measure::run;
 
@@ -108,8 +108,8 @@ pub struct ReportConfig {
 }
 
 impl ReportConfig {
-    /// The `--quick` preset: every fabric, fewer resolutions, pairs and repetitions (under
-    /// two minutes on the 2-core development machine).
+    /// The `--quick` preset: every fabric, fewer resolutions, pairs and repetitions (minutes
+    /// where the full preset takes tens of minutes).
     pub fn quick(fabrics: Vec<Fabric>) -> Self {
         Self {
             mode: "quick".into(),
@@ -132,8 +132,8 @@ impl ReportConfig {
         }
     }
 
-    /// The full preset: every layout's report resolutions, 20,000 pairs per set (as `clothbake check`), more
-    /// repetitions (under thirty minutes on the 2-core development machine).
+    /// The full preset: every layout's report resolutions, 20,000 pairs per set (as
+    /// `clothbake check`), more repetitions.
     pub fn full(fabrics: Vec<Fabric>) -> Self {
         Self {
             mode: "full".into(),

@@ -428,8 +428,18 @@ impl Sampler {
     /// and `sampling_tap` and the helpers they need, without a binding (the module that
     /// requires them declares `sampling_data` or `sampling_taps`).
     pub fn wgsl_constants() -> String {
-        use crate::table::wgsl::wgsl_f32;
-        format!(
+        use crate::table::wgsl::{wgsl_f32, wgsl_vec};
+        let axes: String = (0..2)
+            .map(|j| {
+                let (t0, b) = crate::model::thread_axes(j);
+                format!(
+                    "const SAMPLING_T0_{j} = {};\nconst SAMPLING_B_{j} = {};\n",
+                    wgsl_vec(&t0.to_array()),
+                    wgsl_vec(&b.to_array())
+                )
+            })
+            .collect();
+        axes + &format!(
             "const SAMPLING_ELEVATION_NODES: u32 = {ELEVATION_NODES}u;\n\
              const SAMPLING_AZIMUTH_NODES: u32 = {AZIMUTH_NODES}u;\n\
              const SAMPLING_ROWS: u32 = {ROWS}u;\n\

@@ -29,13 +29,10 @@
 //!    interpolations is added, propagated like the filtering error.
 //! 4. split_frame evaluates its point masses with the shared f32 sample kernel where the
 //!    CPU uses the f64 model. The GPU test of that kernel bounds its relative error by
-//!    R = 2e-5 + 6·δθh/σ_min, δθh the device's atan2 error (3.4e-6 on lavapipe): 5e-4 for
-//!    satin's σs = 2.5°, the narrowest lobe of the built-in fabrics. The point sums enter
-//!    both ⟨s⟩ and Q, so F moves by at most 2R relative: 1e-3·|F| is added. In the horizon
-//!    band (a direction below 1°) the sloped segments come from the resonant quadrature
-//!    instead of the table, in f32 on the GPU and f64 on the CPU: no interpolation error,
-//!    and the same 1e-3·|F| covers the kernel (its GPU test measures at most 1.4e-4
-//!    relative where |F| > 1e-4).
+//!    R = 2e-5 + 6·δθh/σ_min, δθh the device's atan2 error (found on the device by that
+//!    test): about 5e-4 for the narrowest lobe of the built-in fabrics, satin's σs = 2.5°.
+//!    The point sums enter both ⟨s⟩ and Q, so F moves by at most 2R relative: 1e-3·|F| is
+//!    added.
 //!
 //! The bound per pair and channel is that propagated error plus 1e-5·|F| + 1e-6.
 

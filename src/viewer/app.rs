@@ -159,7 +159,7 @@ impl App {
     }
 
     /// The spelling of the evaluator shown (`table`, `paper:32`, `resonant:6/5/2`).
-    fn mode_label(&self) -> String {
+    fn shown_spelling(&self) -> String {
         self.evaluators[self.evaluator].spelling()
     }
 
@@ -235,7 +235,9 @@ impl App {
     }
 
     /// Shows fabric `index` by `evaluator` (at `slot` of the list), preparing what it needs.
-    /// On error nothing changes and the message says why.
+    /// Everything that can fail to prepare (the table, the evaluation and its GPU form, the
+    /// environment's taps) is prepared before anything shown changes, so on such an error
+    /// nothing changes and the message says why.
     fn show(
         &mut self,
         index: usize,
@@ -257,19 +259,6 @@ impl App {
                 slot.insert(FabricGpu::with_table(&g.gpu, file)?)
             }
         };
-        if let (true, Some(map)) = (self.environment_on, &g.environment) {
-            if f.taps.is_none() {
-                // The environment light is the table's, whatever is shown: strata of its
-                // sampler's density, each with the table's ∫F over it.
-                let evaluation = &f.shown[0].evaluation;
-                let taps = evaluation
-                    .sample_taps(&evaluation.sampler(), self.setup.scene.environment.samples);
-                f.taps = Some(GpuSampleTaps::new(&g.gpu, &taps)?);
-            }
-            if let Some(taps) = &f.taps {
-                g.renderer.set_environment(&g.gpu, map, taps)?;
-            }
-        }
         let unavailable = |source| ShowError::Unavailable {
             spelling: evaluator.spelling(),
             source: Box::new(source),
@@ -277,28 +266,53 @@ impl App {
         let i = f
             .entry(&g.gpu, evaluator.as_ref(), fabric, &context)
             .map_err(|e| unavailable(ShowError::Evaluator(e)))?;
+        let environment = match (self.environment_on, &g.environment) {
+            (true, Some(map)) => {
+                if f.taps.is_none() {
+                    // The environment light is the table's, whatever is shown: strata of its
+                    // sampler's density, each with the table's ∫F over it.
+                    let evaluation = &f.shown[0].evaluation;
+                    let taps = evaluation
+                        .sample_taps(&evaluation.sampler(), self.setup.scene.environment.samples);
+                    f.taps = Some(GpuSampleTaps::new(&g.gpu, &taps)?);
+                }
+                f.taps.as_ref().map(|taps| (map, taps))
+            }
+            _ => None,
+        };
         g.renderer
             .set_brdf(&g.gpu, f.shown[i].brdf.as_ref())
             .map_err(|e| unavailable(ShowError::Gpu(e)))?;
-        let label = g.renderer.brdf_label().to_string();
+        if let Some((map, taps)) = environment {
+            g.renderer.set_environment(&g.gpu, map, taps)?;
+        }
         let changed = index != self.current
             || slot != self.evaluator
-            || evaluator.spelling() != self.mode_label();
+            || evaluator.spelling() != self.shown_spelling();
         self.current = index;
         self.evaluator = slot;
         self.evaluators[slot] = evaluator;
         if changed {
             self.stats.clear_recent();
-            let (name, mode) = (&self.setup.fabrics[index].name, self.mode_label());
-            println!("clothbake view: {name}, {mode} ({label})");
-            // The title says at once what is shown; times follow with the next update (a
-            // slow shader may take seconds per frame).
-            if let Some(g) = &self.graphics {
-                g.window
-                    .set_title(&controls::title(name, &mode, None, None));
-            }
+            self.announce();
         }
         Ok(())
+    }
+
+    /// Prints what is shown and puts it in the title at once; frame times follow with the
+    /// title's next update (a slow shader may take seconds per frame).
+    fn announce(&self) {
+        let Some(g) = &self.graphics else { return };
+        let (name, shown) = (
+            &self.setup.fabrics[self.current].name,
+            self.shown_spelling(),
+        );
+        println!(
+            "clothbake view: {name}, {shown} ({})",
+            g.renderer.brdf_label()
+        );
+        g.window
+            .set_title(&controls::title(name, &shown, None, None));
     }
 
     /// [`App::show`], reporting a failure on stderr (the view stays as it was).
@@ -481,7 +495,7 @@ impl App {
             let (interval_ms, gpu_ms) = self.stats.take_recent();
             let title = controls::title(
                 &self.setup.fabrics[self.current].name,
-                &self.mode_label(),
+                &self.shown_spelling(),
                 interval_ms,
                 gpu_ms,
             );
@@ -517,15 +531,7 @@ impl ApplicationHandler for App {
                     self.fail(event_loop, ViewError::Render(error.to_string()));
                     return;
                 }
-                if let Some(g) = &self.graphics {
-                    let (name, mode) = (&self.setup.fabrics[self.current].name, self.mode_label());
-                    println!(
-                        "clothbake view: {name}, {mode} ({})",
-                        g.renderer.brdf_label()
-                    );
-                    g.window
-                        .set_title(&controls::title(name, &mode, None, None));
-                }
+                self.announce();
             }
             Err(e) => self.fail(event_loop, e),
         }

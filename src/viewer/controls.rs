@@ -307,14 +307,15 @@ impl FrameStats {
         result
     }
 
-    /// Forgets the GPU times (after switching shader, old ones would mix two costs).
+    /// Forgets the recent frame intervals and GPU times (after switching fabric or
+    /// evaluator, old ones would mix two costs).
     pub fn clear_recent(&mut self) {
         self.recent_intervals.clear();
         self.recent_gpu.clear();
     }
 }
 
-/// The window title: fabric, shading mode, frame interval (and rate) and GPU time.
+/// The window title: fabric, the evaluator shown, frame interval (and rate) and GPU time.
 pub fn title(fabric: &str, mode: &str, interval_ms: Option<f64>, gpu_ms: Option<f64>) -> String {
     let mut title = format!("clothbake view: {fabric}, {mode}");
     if let Some(ms) = interval_ms {
@@ -526,15 +527,15 @@ mod tests {
     }
 
     #[test]
-    fn title_shows_fabric_mode_and_times() {
+    fn title_shows_fabric_evaluator_and_times() {
         let t = title("velvet", "lookup", Some(12.5), Some(8.25));
         assert_eq!(
             t,
             "clothbake view: velvet, lookup, 12.5 ms/frame (80 fps), GPU 8.25 ms"
         );
         assert_eq!(
-            title("velvet", "direct N=32", None, None),
-            "clothbake view: velvet, direct N=32"
+            title("velvet", "paper:32", None, None),
+            "clothbake view: velvet, paper:32"
         );
     }
 }

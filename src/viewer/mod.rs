@@ -5,7 +5,7 @@
 //! tone mapped as `render` does.
 //!
 //! - [`controls`]: keys, mouse and frame statistics, without window or GPU.
-//! - `app`: the winit application: event handling, the shading modes, drawing.
+//! - `app`: the winit application: event handling, the evaluators shown, drawing.
 //! - `surface`: the window's surface, depth buffer and the window system's errors.
 //! - `timer`: GPU time of the cloth pass from timestamp queries, read without stalling.
 //!
@@ -19,19 +19,18 @@ mod app;
 pub mod controls;
 mod shading;
 mod surface;
-
 mod timer;
-
-use crate::evaluator::table::load_fabric_table;
-use crate::formats::fabric_toml::FabricSet;
-use crate::model::Fabric;
-use crate::scene::mesh::Mesh;
-use crate::scene::{MeshKind, MeshSpec, OrbitCamera, Scene};
-use std::path::{Path, PathBuf};
 
 pub use controls::KEY_HELP;
 
 use crate::evaluator::Evaluator;
+use crate::evaluator::table::load_fabric_table;
+use crate::formats::fabric_toml::FabricSet;
+use crate::formats::table_exr::fabric_table_file;
+use crate::model::Fabric;
+use crate::scene::mesh::Mesh;
+use crate::scene::{MeshKind, MeshSpec, OrbitCamera, Scene};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 /// What `clothbake view` was asked to show.
@@ -98,11 +97,6 @@ fn fabric_list(scene: &Scene, first: Option<&str>) -> (Vec<String>, usize) {
     (names, index)
 }
 
-/// Where the table of fabric `name` lies in `dir`.
-pub fn table_path(dir: &Path, name: &str) -> PathBuf {
-    dir.join(format!("{name}.exr"))
-}
-
 /// Opens the viewer window and runs until the user quits (or `options.frames` frames are
 /// drawn). Prints the adapter and the key list at start. Errors (no tables, no display, no
 /// adapter, GPU validation errors) come back as [`ViewError`], never as a panic.
@@ -140,7 +134,7 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
         .map_err(|e| ViewError::Setup(e.to_string()))?;
     let missing: Vec<&str> = names
         .iter()
-        .filter(|n| !table_path(&options.tables, n).is_file())
+        .filter(|n| !options.tables.join(fabric_table_file(n)).is_file())
         .map(String::as_str)
         .collect();
     if !missing.is_empty() {

@@ -1,5 +1,5 @@
-//! The GPU resonant quadrature (`shaders/model/resonant_quadrature.wgsl` through
-//! `clothbake::gpu::GpuResonant`, f32) against the CPU's
+//! The GPU resonant quadrature (`src/evaluator/resonant/quadrature.wgsl` through
+//! `GpuResonant`, f32) against the CPU's
 //! `Patch::new(fabric, Integration::Resonant(nodes)).eval` (f64), pair by pair: the six
 //! built-in fabrics on uniform and highlight pairs, the curated hard cases of tests/common
 //! (with the stressed variants), and a custom fabric with flat segments (point weights),

@@ -134,7 +134,11 @@ fn draws_follow_the_density_for_every_fabric() {
             // the 48 views), plus the expected mass's integration error where the support's
             // edge crosses cells (INTEGRATION).
             let accepted = 1.0 - rejected as f64 / DRAWS as f64;
-            let standard_error = (total * (1.0 - total.min(1.0)) / DRAWS as f64).sqrt();
+            // The variance p(1 − p)/N with p held at least 1/N: at ∫pdf = 1 the binomial
+            // estimate would allow no rejected draw at all (a draw that f32 rounds onto the
+            // horizon is one).
+            let variance = (total * (1.0 - total.min(1.0))).max(1.0 / DRAWS as f64);
+            let standard_error = (variance / DRAWS as f64).sqrt();
             println!(
                 "{} at {elevation}°/{azimuth}°: accepted {accepted:.6}, ∫pdf {total:.6}",
                 fabric.name

@@ -50,7 +50,7 @@ pub struct PaperParams {
     pub misc: [f32; 4],
 }
 
-pub(crate) use crate::table::wgsl::{degenerate_threshold, unit_area_gaussian};
+use crate::table::wgsl::{degenerate_threshold, unit_area_gaussian};
 
 /// Paper-mode nodes of `thread` as (cos α, sin α, weight, 0), cos and sin computed in f64
 /// like the CPU's, then rounded.

@@ -11,7 +11,7 @@ use super::{
     EvaluationContext, Evaluator, EvaluatorError, EvaluatorUnit, FabricEvaluator, Parsed,
     parameter_error,
 };
-use crate::formats::table_exr::{TableFile, TableFileError, read_table};
+use crate::formats::table_exr::{TableFile, TableFileError, fabric_table_file, read_table};
 use crate::measure::accuracy::{lookup_batch_f64, lookup_f32};
 use crate::model::Fabric;
 use crate::sampling::Sampler;
@@ -104,7 +104,7 @@ impl From<TableError> for EvaluatorError {
 /// The table of `fabric` in `tables` (`NAME.exr`), checked to be baked from exactly these
 /// parameters.
 pub fn load_fabric_table(tables: &Path, fabric: &Fabric) -> Result<TableFile, TableError> {
-    let path = tables.join(format!("{}.exr", fabric.name));
+    let path = tables.join(fabric_table_file(&fabric.name));
     if !path.exists() {
         return Err(TableError::Missing {
             path,

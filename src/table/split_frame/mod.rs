@@ -7,8 +7,8 @@
 //! offsets. In a table over (βH, θd', u, v) it makes a ridge as narrow as the surface lobe,
 //! and its masking factors M and P have kinks along the great circles w·n(α_k) = 0 (for a
 //! float at α_k = 0, the horizon itself) that cut through texels; a 4D table of the whole
-//! curve converges slowly near them (for the four fabrics with floats, most of a 4 MiB
-//! table's error came from such pairs). One tangent sample is cheap to evaluate
+//! curve converges slowly near them (for the fabrics with floats, most of a table's error
+//! came from such pairs). One tangent sample is cheap to evaluate
 //! exactly, so the point masses are taken out of the table and evaluated at lookup: a thread
 //! that is a single point (the straight weft of crepe, both satins and shot silk) needs no
 //! table at all. What remains tabulated is the smooth convolution of the sloped segments.
