@@ -6,7 +6,8 @@
 // requires: table/lookup, table/thread_geometry, model/tangent_sample,
 // requires: table_constants
 //
-// The generated `table_constants` define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap) and per
+// The generated `table_constants` define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap),
+// `CLOTH_COS2_D_FLOOR` (the floor under cos²θd' that the reflection is divided by) and per
 // thread J (`Geometry::thread_wgsl`): its point masses `CLOTH_SPLIT_POINT_COUNTJ` (u32) and
 // `cloth_split_point_massesJ(pair, material)` (the sum of `cloth_split_point` over its masses,
 // written out with the masses as literals), `cloth_split_materialJ()` (ClothSampleMaterial), its axes `CLOTH_SPLIT_T0_J`,
@@ -46,7 +47,7 @@ fn cloth_split_point(pair: ClothSamplePair, material: ClothSampleMaterial, point
 // ⟨P⟩_c, cos²θd') and share `share` = w_c: reflection divided by cos²θd', as in thread_frame.
 fn cloth_split_sloped(c: vec4<f32>, share: f32) -> vec3<f32> {
     let p = share * c.z;
-    return vec3<f32>(c.x * p / max(c.w, 1e-8), c.y * p, p);
+    return vec3<f32>(c.x * p / max(c.w, CLOTH_COS2_D_FLOOR), c.y * p, p);
 }
 
 // `Geometry::thread_sums` of thread 1: (reflection, transmission, ⟨P⟩) of its curve.

@@ -5,7 +5,8 @@
 //
 // requires: table/lookup, table/thread_geometry, table_constants
 //
-// The generated `table_constants` define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap) and
+// The generated `table_constants` define `CLOTH_COVERAGE` (vec3<f32>: a1, a2, gap),
+// `CLOTH_COS2_D_FLOOR` (the floor under cos²θd' that the reflection is divided by) and
 // `cloth_thread1_axes()`, `cloth_thread2_axes()` (`ClothThreadTable` values: each thread's
 // table, ⟨P⟩ in layer j − 1 of the masking texture).
 
@@ -20,7 +21,8 @@ fn cloth_thread_frame_terms(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     let t1 = cloth_thread_sample(cloth_thread1_table, cloth_masking_table, cloth_thread1_axes(), wi, wo);
     let t2 = cloth_thread_sample(cloth_thread2_table, cloth_masking_table, cloth_thread2_axes(), wi, wo);
     let a = CLOTH_COVERAGE;
-    let reflection = a.x * t1.x * t1.z / max(t1.w, 1e-8) + a.y * t2.x * t2.z / max(t2.w, 1e-8);
+    let reflection = a.x * t1.x * t1.z / max(t1.w, CLOTH_COS2_D_FLOOR)
+        + a.y * t2.x * t2.z / max(t2.w, CLOTH_COS2_D_FLOOR);
     let transmission = vec2<f32>(a.x * t1.y * t1.z, a.y * t2.y * t2.z);
     let q = a.z * wo.z + a.x * t1.z + a.y * t2.z;
     if q <= 0.0 {

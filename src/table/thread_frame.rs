@@ -41,7 +41,7 @@
 //! A lookup for thread j: the four coordinates, a quadrilinear interpolation of the 4D table
 //! (on a GPU: axes 0, 1, 3 by hardware filtering of a 3D texture, axis 2 by a manual blend of
 //! two layers), and ⟨P⟩_j bilinearly from its 2D table; then
-//! `R_j = reflection·⟨P⟩_j / max(1 − s², 1e-8)`, `T_j = transmission·⟨P⟩_j`,
+//! `R_j = reflection·⟨P⟩_j / max(1 − s², floor)` ([`thread::COS2_D_FLOOR`]), `T_j = transmission·⟨P⟩_j`,
 //! `Q = a1⟨P⟩_1 + a2⟨P⟩_2 + (1 − a1 − a2)·wo.z` and `F = Σ_j a_j (R_j + A_j T_j) / Q`.
 //!
 //! # Planes (EXR layers)
@@ -68,10 +68,9 @@ use super::axis::AxisF32;
 use super::fast_math::Lanes;
 use super::gpu_bound::{self, GpuErrorBound};
 use super::thread::{
-    AxisPlan, LocatedPairs, MASKING_TEXELS, MIN_BETA_TEXELS, ThreadGeometry, bake_masking,
+    self, AxisPlan, LocatedPairs, MASKING_TEXELS, MIN_BETA_TEXELS, ThreadGeometry, bake_masking,
     bake_thread_plane, f32_exempt, masking_texture, stored_ratios, thread_errors, thread_texture,
 };
-use super::wgsl::coverage_wgsl;
 use super::{BATCH_LANES, LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData};
 use crate::model::{Fabric, Integration, patch::ThreadModel};
 use crate::shader::ShaderFile;
@@ -249,7 +248,7 @@ impl Geometry {
         let mut q = self.gap * wo.z;
         for (j, share) in transmission.iter_mut().enumerate() {
             let [r, t, masking, cos2_d] = self.sample_thread(planes, j, wi, wo);
-            reflection += self.coverage[j] * r * masking / cos2_d.max(1e-8);
+            reflection += self.coverage[j] * r * masking / cos2_d.max(thread::COS2_D_FLOOR);
             *share = self.coverage[j] * t * masking;
             q += self.coverage[j] * masking;
         }
@@ -278,7 +277,7 @@ impl Geometry {
             let [r, t, masking, cos2_d] =
                 self.threads[j].sample_located(&planes[j], &planes[2 + j], &located[j], k);
             let a = self.coverage[j] as f32;
-            reflection += a * r * masking / cos2_d.max(1e-8);
+            reflection += a * r * masking / cos2_d.max(thread::COS2_D_FLOOR as f32);
             *share = a * t * masking;
             q += a * masking;
         }
@@ -330,7 +329,7 @@ impl TableLookup for Geometry {
             self.threads.iter().all(|t| t.axes[2].texels >= 2),
             "thread_frame has at least 2 u texels"
         );
-        let mut out = coverage_wgsl(self.coverage, self.gap);
+        let mut out = thread::layout_wgsl(self.coverage, self.gap);
         for (j, thread) in self.threads.iter().enumerate() {
             out += &thread.wgsl_constant(&format!("cloth_thread{}_axes", j + 1), j);
         }
@@ -377,7 +376,7 @@ impl TableLookup for Geometry {
         for j in 0..2 {
             let [r, t, p, c2] = samples[j];
             let a = self.coverage[j];
-            let c = c2.max(1e-8);
+            let c = c2.max(thread::COS2_D_FLOOR);
             let d_r = a * p / (c * q);
             let d_t = albedo[j] * (a * p / q);
             let d_p = (DVec3::splat(r / c) + albedo[j] * t - cpu) * (a / q);

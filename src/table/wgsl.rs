@@ -112,15 +112,6 @@ pub fn degenerate_threshold() -> f32 {
     }
 }
 
-/// `CLOTH_COVERAGE` (a1, a2, gap = 1 − a1 − a2), the constant of the layouts that weigh
-/// threads by their coverage.
-pub fn coverage_wgsl(coverage: [f64; 2], gap: f64) -> String {
-    format!(
-        "// Coverage (a1, a2, gap = 1 − a1 − a2).\nconst CLOTH_COVERAGE = {};\n",
-        wgsl_vec(&[coverage[0], coverage[1], gap])
-    )
-}
-
 /// `vecN<f32>(…)` of N values, each as [`wgsl_f32`].
 pub fn wgsl_vec<T: Into<f64> + Copy>(values: &[T]) -> String {
     let parts: Vec<String> = values.iter().map(|&v| wgsl_f32(v)).collect();

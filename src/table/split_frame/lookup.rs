@@ -6,7 +6,6 @@ use super::Geometry;
 use crate::table::bindings::{ARRAY_SLOTS, VOLUME_SLOTS, stand_in_texture};
 use crate::table::gpu_bound::{self, GpuErrorBound};
 use crate::table::thread;
-use crate::table::wgsl::coverage_wgsl;
 use crate::table::{BATCH_LANES, BatchLanes, Plane, TableLookup, TextureData};
 use glam::{DVec3, Vec3};
 use std::any::Any;
@@ -43,7 +42,7 @@ impl TableLookup for Geometry {
     }
 
     fn wgsl_constants(&self) -> String {
-        let mut out = coverage_wgsl(self.coverage, self.gap);
+        let mut out = thread::layout_wgsl(self.coverage, self.gap);
         for j in 0..2 {
             out += &self.thread_wgsl(j);
         }
@@ -106,7 +105,7 @@ impl TableLookup for Geometry {
                 thread::thread_errors(&slopes.geometry, &planes[t], &planes[m], wi, wo);
             folded |= fold != [0.0; 2];
             let a = self.coverage[j] * slopes.weight;
-            let c = c2.max(1e-8);
+            let c = c2.max(thread::COS2_D_FLOOR);
             let d_r = a * p / (c * q);
             let d_t = albedo[j] * (a * p / q);
             let d_p = (DVec3::splat(r / c) + albedo[j] * tr - cpu) * (a / q);

@@ -326,7 +326,7 @@ impl Geometry {
                     .geometry
                     .sample(&planes[table], &planes[masking], wi, wo);
             let p = slopes.weight * p;
-            sums[0] += r * p / cos2_d.max(1e-8);
+            sums[0] += r * p / cos2_d.max(thread::COS2_D_FLOOR);
             sums[1] += t * p;
             sums[2] += p;
         }
@@ -352,7 +352,7 @@ impl Geometry {
                     .geometry
                     .sample_located(sloped.table, sloped.masking, &sloped.located, k);
             let p = sloped.weight * p;
-            sums[0] += r * p / cos2_d.max(1e-8);
+            sums[0] += r * p / cos2_d.max(thread::COS2_D_FLOOR as f32);
             sums[1] += t * p;
             sums[2] += p;
         }

@@ -235,7 +235,7 @@ pub fn thread_errors(
 
 /// [`crate::table::TableLookup::f32_exempt`] for the layouts that tabulate threads, from the
 /// pair's normalisation `q` and the cos²θd' of each thread table it read: Q positive but
-/// below 1e-6, or any cos²θd' below the 1e-8 floor that the reflection is divided by.
+/// below 1e-6, or any cos²θd' below the floor that the reflection is divided by.
 pub fn f32_exempt(q: f64, cos2_d: impl IntoIterator<Item = f64>) -> bool {
-    (q > 0.0 && q < 1e-6) || cos2_d.into_iter().any(|c| c < 1e-8)
+    (q > 0.0 && q < 1e-6) || cos2_d.into_iter().any(|c| c < super::COS2_D_FLOOR)
 }
