@@ -309,6 +309,30 @@ macro_rules! unit_label {
     }};
 }
 
+/// One evaluator unit's points in a panel: its curve in the unit's colour and marker, in the
+/// legend as `legend` where given, and each point's `(position, parameter)` label beside its
+/// marker.
+pub(super) fn unit_series<'a, DB: DrawingBackend + 'a, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    unit: &EvaluatorUnit,
+    points: &[((f64, f64), String)],
+    legend: Option<&str>,
+) -> PlotResult
+where
+    DB::ErrorType: 'static,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let at: Vec<(f64, f64)> = points.iter().map(|(at, _)| *at).collect();
+    curve(chart, &at, unit_colour(unit), unit_marker(unit), legend)?;
+    chart.draw_series(
+        points
+            .iter()
+            .map(|(at, parameter)| unit_label!(unit, parameter.clone(), *at)),
+    )?;
+    Ok(())
+}
+
 /// Picks one error figure of a table.
 pub(super) type ErrorOf = fn(&super::super::Point) -> f64;
 

@@ -126,20 +126,11 @@ fn error_vs_cost(report: &Report, path: &Path) -> PlotResult {
                 },
             )?;
             for unit in report.units() {
-                let points: Vec<&Point> = f.of_unit(unit).collect();
-                let label = unit.syntax.to_string();
-                curve(
-                    &mut chart,
-                    &points.iter().map(|p| cost_and_error(p)).collect::<Vec<_>>(),
-                    unit_colour(unit),
-                    unit_marker(unit),
-                    (k == 0).then_some(label.as_str()),
-                )?;
-                chart.draw_series(
-                    points
-                        .iter()
-                        .map(|p| unit_label!(unit, p.evaluation.parameter(), cost_and_error(p))),
-                )?;
+                let points: Vec<_> = f
+                    .of_unit(unit)
+                    .map(|p| (cost_and_error(p), p.evaluation.parameter()))
+                    .collect();
+                unit_series(&mut chart, unit, &points, (k == 0).then_some(unit.syntax))?;
             }
             for &layout in Layout::ALL {
                 let points: Vec<(f64, f64)> = of_layout(f, layout)
@@ -250,24 +241,14 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
             )?;
             let at = |p: &GpuPoint| lg2((p.ms_per_frame, p.image_relative_l2));
             for unit in report.units() {
-                let points: Vec<&GpuPoint> = f
+                let points: Vec<_> = f
                     .points
                     .iter()
                     .filter(|p| p.evaluation.is_of(unit))
+                    .map(|p| (at(p), p.evaluation.parameter()))
                     .collect();
                 let label = format!("{} shader", unit.syntax);
-                curve(
-                    &mut chart,
-                    &points.iter().map(|p| at(p)).collect::<Vec<_>>(),
-                    unit_colour(unit),
-                    unit_marker(unit),
-                    (k == 0).then_some(label.as_str()),
-                )?;
-                chart.draw_series(
-                    points
-                        .iter()
-                        .map(|p| unit_label!(unit, p.evaluation.parameter(), at(p))),
-                )?;
+                unit_series(&mut chart, unit, &points, (k == 0).then_some(label.as_str()))?;
             }
             let lookup: Vec<(f64, f64)> = f.lookup().map(at).into_iter().collect();
             let label = f.lookup().map_or(String::new(), |p| {
