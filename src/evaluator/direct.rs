@@ -38,15 +38,11 @@ impl Evaluator for Direct {
         fabric: &Fabric,
         _context: &EvaluationContext,
     ) -> Result<Box<dyn FabricEvaluator>, EvaluatorError> {
-        #[cfg(feature = "runtime")]
-        let gpu = Err("paper:N or resonant");
-        #[cfg(not(feature = "runtime"))]
-        let gpu = ();
         Ok(ModelEvaluation::boxed(
             self.spelling(),
             fabric,
             Integration::Direct,
-            gpu,
+            Err("paper:N or resonant"),
         ))
     }
 }

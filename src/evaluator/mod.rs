@@ -245,15 +245,14 @@ impl fmt::Display for EvaluatorSpec {
 
 /// How a model evaluation is put on the GPU: its unit's form, or (`Err`) what to use instead
 /// where it has none.
-#[cfg(feature = "runtime")]
 type GpuForm = Result<Box<dyn ModelGpuForm>, &'static str>;
-#[cfg(not(feature = "runtime"))]
-type GpuForm = ();
 
-/// A model evaluation's GPU form for a fabric: its WGSL, and its [`GpuBrdf`] on a device.
-#[cfg(feature = "runtime")]
+/// A model evaluation's GPU form for a fabric: its WGSL, and its [`GpuBrdf`] on a device
+/// (without the runtime, a marker with nothing to do).
 trait ModelGpuForm: Send + Sync {
+    #[cfg(feature = "runtime")]
     fn wgsl(&self, fabric: &Fabric) -> String;
+    #[cfg(feature = "runtime")]
     fn build(
         &self,
         context: &GpuContext,

@@ -93,17 +93,13 @@ impl Evaluator for Paper {
         fabric: &Fabric,
         _context: &EvaluationContext,
     ) -> Result<Box<dyn FabricEvaluator>, EvaluatorError> {
-        #[cfg(feature = "runtime")]
-        let gpu: super::GpuForm = Ok(Box::new(Paper {
-            samples: self.samples,
-        }));
-        #[cfg(not(feature = "runtime"))]
-        let gpu = ();
         Ok(ModelEvaluation::boxed(
             self.spelling(),
             fabric,
             Integration::Paper(self.samples),
-            gpu,
+            Ok(Box::new(Paper {
+                samples: self.samples,
+            })),
         ))
     }
 
@@ -120,12 +116,13 @@ impl Evaluator for Paper {
     }
 }
 
-#[cfg(feature = "runtime")]
 impl super::ModelGpuForm for Paper {
+    #[cfg(feature = "runtime")]
     fn wgsl(&self, _fabric: &Fabric) -> String {
         gpu::paper_wgsl()
     }
 
+    #[cfg(feature = "runtime")]
     fn build(
         &self,
         context: &crate::gpu::GpuContext,

@@ -83,25 +83,22 @@ impl Evaluator for Resonant {
         fabric: &Fabric,
         _context: &EvaluationContext,
     ) -> Result<Box<dyn FabricEvaluator>, EvaluatorError> {
-        #[cfg(feature = "runtime")]
-        let gpu: super::GpuForm = Ok(Box::new(Resonant { nodes: self.nodes }));
-        #[cfg(not(feature = "runtime"))]
-        let gpu = ();
         Ok(ModelEvaluation::boxed(
             self.spelling(),
             fabric,
             Integration::Resonant(self.nodes),
-            gpu,
+            Ok(Box::new(Resonant { nodes: self.nodes })),
         ))
     }
 }
 
-#[cfg(feature = "runtime")]
 impl super::ModelGpuForm for Resonant {
+    #[cfg(feature = "runtime")]
     fn wgsl(&self, fabric: &Fabric) -> String {
         gpu::resonant_wgsl(fabric, self.nodes)
     }
 
+    #[cfg(feature = "runtime")]
     fn build(
         &self,
         context: &crate::gpu::GpuContext,

@@ -248,7 +248,12 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
                     .map(|p| (at(p), p.evaluation.parameter()))
                     .collect();
                 let label = format!("{} shader", unit.syntax);
-                unit_series(&mut chart, unit, &points, (k == 0).then_some(label.as_str()))?;
+                unit_series(
+                    &mut chart,
+                    unit,
+                    &points,
+                    (k == 0).then_some(label.as_str()),
+                )?;
             }
             let lookup: Vec<(f64, f64)> = f.lookup().map(at).into_iter().collect();
             let label = f.lookup().map_or(String::new(), |p| {
