@@ -116,26 +116,33 @@ fn frames_drawn(output: &str) -> Option<u64> {
     rest.split_whitespace().next()?.parse().ok()
 }
 
-#[test]
-fn view_draws_the_requested_frames_under_xvfb() {
-    let dir = temp_dir("frames");
-    let scene = bake_small_tables(&dir);
+/// `clothbake view` of `scene` with the tables in `dir` under xvfb-run, drawing `frames`
+/// frames, with `more` arguments.
+fn view_under_xvfb(scene: &Path, dir: &Path, frames: &str, more: &[&str]) -> Output {
     // xvfb-run's default screen is 640×480 at 8 bits per pixel, which Vulkan drivers may not
     // present to; ask for 24-bit colour and room for the 1024×768 window.
-    let args = [
+    let mut args = vec![
         "-a",
         "-s",
         "-screen 0 1280x1024x24",
         env!("CARGO_BIN_EXE_clothbake"),
         "view",
         "--scene",
-        path_str(&scene),
+        path_str(scene),
         "--tables",
-        path_str(&dir),
+        path_str(dir),
         "--frames",
-        "30",
+        frames,
     ];
-    let output = run(clothbake_command("xvfb-run", &args));
+    args.extend(more);
+    run(clothbake_command("xvfb-run", &args))
+}
+
+#[test]
+fn view_draws_the_requested_frames_under_xvfb() {
+    let dir = temp_dir("frames");
+    let scene = bake_small_tables(&dir);
+    let output = view_under_xvfb(&scene, &dir, "30", &[]);
     let all = output_text(&output);
     println!("{all}");
     assert!(output.status.success(), "view failed: {all}");
@@ -206,23 +213,11 @@ fn view_shows_the_evaluators_it_is_given_and_refuses_one_without_a_gpu_form() {
     let dir = temp_dir("evaluators");
     let scene = bake_small_tables(&dir);
     let view = |evaluators: &[&str]| {
-        let mut args = vec![
-            "-a",
-            "-s",
-            "-screen 0 1280x1024x24",
-            env!("CARGO_BIN_EXE_clothbake"),
-            "view",
-            "--scene",
-            path_str(&scene),
-            "--tables",
-            path_str(&dir),
-            "--frames",
-            "3",
-        ];
-        for spelling in evaluators {
-            args.extend(["--evaluator", spelling]);
-        }
-        let output = run(clothbake_command("xvfb-run", &args));
+        let more: Vec<&str> = evaluators
+            .iter()
+            .flat_map(|spelling| ["--evaluator", spelling])
+            .collect();
+        let output = view_under_xvfb(&scene, &dir, "3", &more);
         (output.status.success(), output_text(&output))
     };
     // The first of the list is shown at start, through its GPU form.
