@@ -281,8 +281,8 @@ fn strata_taps(
 /// 0 … R − 1, then the rest), each from its corner at row 0 to its other corner at row 0,
 /// so that the two join into one closed curve around the azimuth. Cells close along the
 /// curve are close on the sphere, so any interval of the curve is a compact patch. (Cells
-/// split in two along the azimuth, 2.8° square at the horizon rather than 2.8° × 5.6°,
-/// measured no better: docs/notebook/2026-12-07-sampling.md#what-was-tried.)
+/// split in two along the azimuth, square at the horizon, were tried:
+/// docs/notebook/2026-12-07-sampling.md#what-was-tried.)
 fn curve_order() -> Vec<(usize, usize)> {
     const _: () = assert!(COLUMNS == 2 * ROWS && ROWS.is_power_of_two());
     (0..2)

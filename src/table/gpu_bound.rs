@@ -30,9 +30,9 @@
 //! 4. split_frame evaluates its point masses with the shared f32 sample kernel where the
 //!    CPU uses the f64 model. The GPU test of that kernel bounds its relative error by
 //!    R = 2e-5 + 6·δθh/σ_min, δθh the device's atan2 error (found on the device by that
-//!    test): about 5e-4 for the narrowest lobe of the built-in fabrics, satin's σs = 2.5°.
-//!    The point sums enter both ⟨s⟩ and Q, so F moves by at most 2R relative: 1e-3·|F| is
-//!    added.
+//!    test), largest for the narrowest lobe of the built-in fabrics. The point sums enter
+//!    both ⟨s⟩ and Q, so F moves by at most 2R relative: 1e-3·|F| is added, twice R at
+//!    that lobe.
 //!
 //! The bound per pair and channel is that propagated error plus 1e-5·|F| + 1e-6.
 

@@ -47,7 +47,8 @@ pub const UNIT: EvaluatorUnit = EvaluatorUnit {
             "paper:512",
             "paper:1024",
         ],
-        // Beyond N = 64 a frame on a software rasteriser takes seconds.
+        // The GPU section stops where a software rasteriser's frame gets too slow to time
+        // repeatedly.
         gpu_quick: &[
             "paper:1", "paper:2", "paper:4", "paper:8", "paper:16", "paper:32", "paper:64",
         ],
