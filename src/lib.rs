@@ -27,6 +27,7 @@
 //! - [`weave`]: a fabric from a weave draft (named weaves and WIF files) and yarn knobs.
 
 pub mod bake;
+pub mod editor;
 pub mod evaluator;
 pub mod fit;
 pub mod formats;
