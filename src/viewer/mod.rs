@@ -16,6 +16,7 @@
 //! many frames and closes, for tests and scripts.
 
 mod app;
+pub mod edit;
 pub mod controls;
 mod shading;
 mod surface;

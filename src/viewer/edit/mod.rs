@@ -1,0 +1,3 @@
+//! The editing panel of `clothbake view --edit` (egui), over the drape.
+
+pub mod plots_ui;
