@@ -16,8 +16,8 @@
 //! many frames and closes, for tests and scripts.
 
 mod app;
-pub mod edit;
 pub mod controls;
+pub mod edit;
 mod shading;
 mod surface;
 mod timer;

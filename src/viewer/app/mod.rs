@@ -2,14 +2,9 @@
 //! and the frame loop. Every frame requests the next and nothing waits on the GPU except
 //! the surface itself, so the frame interval measures what a frame costs.
 
-use super::controls::{
-    self, Action, FrameStats, LightControl, OrbitControl, action_for_key, cycle_index,
-    pixels_to_lines,
-};
-use super::shading::FabricGpu;
-use super::surface::{Graphics, depth_view, os_message, surface_config};
-use super::timer::GpuTimer;
-use super::{ViewError, ViewSummary};
+mod actions;
+mod frame;
+
 use crate::evaluator::table::load_fabric_table;
 use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError};
 use crate::formats::table_exr::TableFile;
@@ -17,9 +12,16 @@ use crate::gpu::GpuError;
 use crate::gpu::{GpuContext, GpuSampleTaps};
 use crate::lighting::SplitEnvironment;
 use crate::model::Fabric;
-use crate::render::{Camera, FrameSettings, FrameTargets, GpuEnvironment, LightSource, Renderer};
+use crate::render::{GpuEnvironment, Renderer};
 use crate::scene::Scene;
 use crate::scene::mesh::Mesh;
+use crate::viewer::controls::{
+    self, FrameStats, LightControl, OrbitControl, action_for_key, pixels_to_lines,
+};
+use crate::viewer::shading::FabricGpu;
+use crate::viewer::surface::{Graphics, depth_view, os_message, surface_config};
+use crate::viewer::timer::GpuTimer;
+use crate::viewer::{ViewError, ViewSummary};
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -319,198 +321,6 @@ impl App {
     fn show_or_report(&mut self, index: usize, slot: usize, evaluator: Arc<dyn Evaluator>) {
         if let Err(error) = self.show(index, slot, evaluator) {
             eprintln!("clothbake view: {error}");
-        }
-    }
-
-    fn handle(&mut self, event_loop: &ActiveEventLoop, action: Action) {
-        let (index, slot) = (self.current, self.evaluator);
-        let shown = self.evaluators[slot].clone();
-        match action {
-            Action::Quit => event_loop.exit(),
-            Action::CycleFabric(step) => {
-                let next = cycle_index(index, step, self.setup.fabrics.len());
-                self.show_or_report(next, slot, shown);
-            }
-            Action::SelectFabric(next) => {
-                if next < self.setup.fabrics.len() {
-                    self.show_or_report(next, slot, shown);
-                }
-            }
-            Action::RotateLight {
-                azimuth_deg,
-                elevation_deg,
-            } => {
-                if self.light.has_light() {
-                    self.light.rotate(azimuth_deg, elevation_deg);
-                } else {
-                    eprintln!("clothbake view: the scene has no directional light to move");
-                }
-            }
-            Action::ToggleLightSpin => self.light.spinning = !self.light.spinning,
-            Action::CycleEvaluator(step) => {
-                let next = cycle_index(slot, step, self.evaluators.len());
-                self.show_or_report(index, next, self.evaluators[next].clone());
-            }
-            Action::Finer(finer) => match shown.step(finer) {
-                Some(next) => self.show_or_report(index, slot, next),
-                None => println!(
-                    "clothbake view: {} has no {} setting",
-                    shown.spelling(),
-                    if finer { "finer" } else { "coarser" }
-                ),
-            },
-            Action::ToggleEnvironment => {
-                if self.setup.environment.is_none() {
-                    println!("clothbake view: the scene has no environment light (--env)");
-                } else {
-                    self.environment_on = !self.environment_on;
-                    println!(
-                        "clothbake view: environment light {}",
-                        if self.environment_on { "on" } else { "off" }
-                    );
-                    self.show_or_report(index, slot, shown);
-                }
-            }
-            Action::RotateEnvironment(degrees) => {
-                self.environment_rotation_deg = (self.environment_rotation_deg + degrees) % 360.0;
-                println!(
-                    "clothbake view: environment turned to {:.0}°",
-                    self.environment_rotation_deg
-                );
-            }
-            Action::ResetView => {
-                self.orbit.reset();
-                self.light.reset();
-            }
-        }
-    }
-
-    fn frame_settings(&self) -> FrameSettings {
-        let scene = &self.setup.scene;
-        FrameSettings {
-            camera: Camera::orbit(&self.orbit.camera),
-            lights: self
-                .light
-                .lights()
-                .iter()
-                .map(LightSource::from_scene)
-                .collect(),
-            exposure: scene.exposure as f32,
-            background: crate::render::BACKGROUND,
-            environment_samples: if self.environment_on {
-                scene.environment.samples
-            } else {
-                0
-            },
-            environment_rotation: self.environment_rotation_deg.to_radians() as f32,
-        }
-    }
-
-    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
-        let now = Instant::now();
-        let interval = self.last_frame.map(|t| now - t);
-        self.light
-            .advance(interval.map_or(0.0, |d| d.as_secs_f64()));
-        let settings = self.frame_settings();
-        let Some(g) = &mut self.graphics else {
-            return;
-        };
-        if let Some(timer) = &mut g.timer {
-            for ms in timer.collect(&g.gpu) {
-                self.stats.gpu_time(ms);
-            }
-        }
-        if g.config.width == 0 || g.config.height == 0 {
-            // Minimised: nothing to draw until resized.
-            return;
-        }
-        let frame = match g.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(frame) => frame,
-            wgpu::CurrentSurfaceTexture::Suboptimal(frame) => {
-                // Draw this one; reconfigure for the next.
-                g.configure();
-                frame
-            }
-            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
-                g.window.request_redraw();
-                return;
-            }
-            wgpu::CurrentSurfaceTexture::Outdated => {
-                g.configure();
-                g.window.request_redraw();
-                return;
-            }
-            wgpu::CurrentSurfaceTexture::Lost => {
-                if let Err(e) = g.recreate_surface() {
-                    self.fail(event_loop, e);
-                    return;
-                }
-                g.window.request_redraw();
-                return;
-            }
-            wgpu::CurrentSurfaceTexture::Validation => {
-                let message = g.take_uncaptured().unwrap_or_default();
-                self.fail(
-                    event_loop,
-                    ViewError::Render(format!("cannot acquire a surface texture: {message}")),
-                );
-                return;
-            }
-        };
-        let view = frame
-            .texture
-            .create_view(&wgpu::TextureViewDescriptor::default());
-        let mut encoder = g
-            .gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("view frame"),
-            });
-        let targets = FrameTargets {
-            color: &view,
-            linear: None,
-            depth: &g.depth,
-            size: (g.config.width, g.config.height),
-        };
-        let writes = g.timer.as_mut().and_then(|t| t.begin());
-        g.renderer
-            .encode(&g.gpu.queue, &mut encoder, &targets, &settings, writes);
-        if let Some(timer) = &g.timer {
-            timer.resolve(&mut encoder);
-        }
-        g.gpu.queue.submit([encoder.finish()]);
-        if let Some(timer) = &mut g.timer {
-            timer.submitted();
-        }
-        g.window.pre_present_notify();
-        g.gpu.queue.present(frame);
-        if let Some(message) = g.take_uncaptured() {
-            self.fail(event_loop, ViewError::Render(message));
-            return;
-        }
-        self.last_frame = Some(now);
-        self.stats.frame(interval.map(|d| d.as_secs_f64() * 1000.0));
-        if now - self.last_title >= TITLE_PERIOD {
-            self.last_title = now;
-            let (interval_ms, gpu_ms) = self.stats.take_recent();
-            let title = controls::title(
-                &self.setup.fabrics[self.current].name,
-                &self.shown_spelling(),
-                interval_ms,
-                gpu_ms,
-            );
-            if let Some(g) = &self.graphics {
-                g.window.set_title(&title);
-            }
-        }
-        if let Some(limit) = self.setup.frames
-            && self.stats.frames() >= limit as u64
-        {
-            event_loop.exit();
-            return;
-        }
-        if let Some(g) = &self.graphics {
-            g.window.request_redraw();
         }
     }
 }
