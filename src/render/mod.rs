@@ -37,6 +37,7 @@ mod environment_map;
 mod frame;
 mod headless;
 mod lights;
+mod pipelines;
 mod renderer;
 mod targets;
 mod timing;
@@ -48,7 +49,9 @@ pub use headless::{GBuffer, HEADLESS_COLOR_FORMAT, Headless, MAX_IMAGE_SIDE, Ren
 pub use lights::LightSource;
 #[cfg(test)]
 pub(crate) use renderer::STUB_BRDF_WGSL;
-pub use renderer::{FrameTargets, GBufferTargets, RENDER_MODULE, Renderer, render_wgsl};
+pub use renderer::{
+    FrameTargets, GBufferTargets, PreparedBrdf, RENDER_MODULE, Renderer, render_wgsl,
+};
 pub use targets::{
     DEPTH_FORMAT, GBUFFER_FORMAT, LINEAR_FORMAT, LINEAR_FORMAT_F16, float32_renderable,
     linear_format,

@@ -7,9 +7,10 @@ use super::FrameSettings;
 use super::environment_map::{EnvironmentFrame, GpuEnvironment, lighting_group, lighting_layout};
 use super::frame::FrameUniform;
 use super::image;
-use super::targets::{DEPTH_FORMAT, GBUFFER_FORMAT, check_gbuffer_support, linear_format};
+use super::pipelines::{Pipelines, mesh_pipeline};
+use super::targets::{GBUFFER_FORMAT, check_gbuffer_support, linear_format};
 use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampleTaps};
-use crate::scene::mesh::{Mesh, Vertex};
+use crate::scene::mesh::Mesh;
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
@@ -23,7 +24,7 @@ pub(crate) const STUB_BRDF_WGSL: &str =
 
 /// The targets of one frame. `linear` may be given only when the renderer was made with a
 /// linear output (of [`Renderer::linear_format`]); without it the frame is the display image
-/// alone, as a real-time frame. `depth` is [`DEPTH_FORMAT`]; all of `size`.
+/// alone, as a real-time frame. `depth` is [`DEPTH_FORMAT`](super::DEPTH_FORMAT); all of `size`.
 pub struct FrameTargets<'a> {
     pub color: &'a wgpu::TextureView,
     pub linear: Option<&'a wgpu::TextureView>,
@@ -42,16 +43,12 @@ pub struct GBufferTargets<'a> {
     pub size: (u32, u32),
 }
 
-/// The pipelines of one BRDF shader: the display image alone, and display plus linear
-/// radiance (when the renderer has a linear output).
+/// A BRDF ready for [`Renderer`]: the pipelines of its shader and its bind group.
 #[derive(Clone)]
-struct Pipelines {
-    display: wgpu::RenderPipeline,
-    display_linear: Option<wgpu::RenderPipeline>,
-    /// The environment behind the cloth, into the display target alone (the linear target,
-    /// where the pass has one, is declared with an empty write mask).
-    background: wgpu::RenderPipeline,
-    background_linear: Option<wgpu::RenderPipeline>,
+pub struct PreparedBrdf {
+    pipelines: Pipelines,
+    group: wgpu::BindGroup,
+    label: String,
 }
 
 /// The cloth render pipeline: a mesh, a [`GpuBrdf`], the uniforms of a frame.
@@ -70,8 +67,6 @@ pub struct Renderer {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
-    brdf_group: wgpu::BindGroup,
-    brdf_label: String,
     lighting_layout: wgpu::BindGroupLayout,
     /// The environment map and the fabric's sample taps (@group(2)).
     lighting_group: wgpu::BindGroup,
@@ -84,7 +79,9 @@ pub struct Renderer {
     environment: Option<EnvironmentFrame>,
     /// The current BRDF's pipelines (set by `new`), kept out of the map so that a frame
     /// does not hash the shader source to find them.
-    current: Option<Pipelines>,
+    current: Option<PreparedBrdf>,
+    /// The BRDF of the right half of the display, when comparing ([`Renderer::set_split`]).
+    split: Option<PreparedBrdf>,
     /// Pipelines by shader source.
     pipelines: HashMap<String, Pipelines>,
     gbuffer_pipeline: Option<wgpu::RenderPipeline>,
@@ -161,13 +158,12 @@ impl Renderer {
             vertices,
             indices,
             index_count: mesh.indices.len() as u32,
-            brdf_group: brdf.bind_group().clone(),
-            brdf_label: String::new(),
             lighting_layout,
             lighting_group,
             tap_samples: 0,
             environment: None,
             current: None,
+            split: None,
             pipelines: HashMap::new(),
             gbuffer_pipeline: None,
         };
@@ -175,61 +171,50 @@ impl Renderer {
         Ok(renderer)
     }
 
+    /// `brdf` made ready to draw: its pipelines (built unless a BRDF with the same shader
+    /// was prepared before) and its bind group.
+    pub fn prepare_brdf(
+        &mut self,
+        context: &GpuContext,
+        brdf: &dyn GpuBrdf,
+    ) -> Result<PreparedBrdf, GpuError> {
+        let source = render_wgsl(&brdf.wgsl());
+        let pipelines = match self.pipelines.get(&source) {
+            Some(pipelines) => pipelines.clone(),
+            None => {
+                let pipelines = context.checked(|| {
+                    Pipelines::build(
+                        context,
+                        &source,
+                        brdf.bind_group_layout(),
+                        [&self.frame_layout, &self.lighting_layout],
+                        self.color_format,
+                        self.linear_format,
+                    )
+                })?;
+                self.pipelines.insert(source, pipelines.clone());
+                pipelines
+            }
+        };
+        Ok(PreparedBrdf {
+            pipelines,
+            group: brdf.bind_group().clone(),
+            label: brdf.label(),
+        })
+    }
+
     /// Shades with `brdf` from now on (builds its pipeline unless one for the same shader
     /// was built before).
     pub fn set_brdf(&mut self, context: &GpuContext, brdf: &dyn GpuBrdf) -> Result<(), GpuError> {
-        let source = render_wgsl(&brdf.wgsl());
-        if let Some(pipelines) = self.pipelines.get(&source) {
-            self.current = Some(pipelines.clone());
-        } else {
-            let display = wgpu::ColorTargetState::from(self.color_format);
-            let pipelines = context.checked(|| {
-                let layout = Some(brdf.bind_group_layout());
-                let module = shader_module(context, &source);
-                Pipelines {
-                    display: self.pipeline(
-                        context,
-                        &module,
-                        [layout, Some(&self.lighting_layout)],
-                        "fs_display",
-                        &[Some(display.clone())],
-                    ),
-                    display_linear: self.linear_format.map(|format| {
-                        self.pipeline(
-                            context,
-                            &module,
-                            [layout, Some(&self.lighting_layout)],
-                            "fs_display_linear",
-                            &[Some(display.clone()), Some(format.into())],
-                        )
-                    }),
-                    background: self.background_pipeline(
-                        context,
-                        &module,
-                        layout,
-                        &[Some(display.clone())],
-                    ),
-                    background_linear: self.linear_format.map(|format| {
-                        let untouched = wgpu::ColorTargetState {
-                            format,
-                            blend: None,
-                            write_mask: wgpu::ColorWrites::empty(),
-                        };
-                        self.background_pipeline(
-                            context,
-                            &module,
-                            layout,
-                            &[Some(display.clone()), Some(untouched)],
-                        )
-                    }),
-                }
-            })?;
-            self.current = Some(pipelines.clone());
-            self.pipelines.insert(source, pipelines);
-        }
-        self.brdf_group = brdf.bind_group().clone();
-        self.brdf_label = brdf.label();
+        self.current = Some(self.prepare_brdf(context, brdf)?);
         Ok(())
+    }
+
+    /// Shades the right half of the display by `right` (prepared by this renderer), the
+    /// left by the current BRDF, for side-by-side comparison; `None` shades it all by the
+    /// current one.
+    pub fn set_split(&mut self, right: Option<PreparedBrdf>) {
+        self.split = right;
     }
 
     /// Lights the cloth with `environment` from now on, through the fabric's sample `taps`
@@ -267,119 +252,12 @@ impl Renderer {
 
     /// The label of the current BRDF ([`GpuBrdf::label`]).
     pub fn brdf_label(&self) -> &str {
-        &self.brdf_label
+        self.current.as_ref().map_or("", |brdf| &brdf.label)
     }
 
     /// The format its linear-radiance target must have (`None`: made without one).
     pub fn linear_format(&self) -> Option<wgpu::TextureFormat> {
         self.linear_format
-    }
-
-    /// The pipeline drawing the mesh with fragment entry point `fragment` of `module` (the
-    /// render WGSL appended to a BRDF's) into `targets`; `groups` are the layouts of
-    /// @group(0) (the BRDF's) and @group(2) (lighting), `None` where the entry point reads
-    /// neither.
-    fn pipeline(
-        &self,
-        context: &GpuContext,
-        module: &wgpu::ShaderModule,
-        groups: [Option<&wgpu::BindGroupLayout>; 2],
-        fragment: &str,
-        targets: &[Option<wgpu::ColorTargetState>],
-    ) -> wgpu::RenderPipeline {
-        let device = &context.device;
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("render"),
-            bind_group_layouts: &[groups[0], Some(&self.frame_layout), groups[1]],
-            immediate_size: 0,
-        });
-        let attributes = wgpu::vertex_attr_array![
-            0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32x2
-        ];
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(fragment),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<Vertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &attributes,
-                })],
-            },
-            // Cloth is two-sided: no culling (the shader flips the frame to the viewer).
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some(fragment),
-                compilation_options: Default::default(),
-                targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-    }
-
-    /// The pipeline drawing the environment behind the cloth: one triangle over the screen,
-    /// no vertex buffer, depth neither tested nor written (it is drawn first).
-    fn background_pipeline(
-        &self,
-        context: &GpuContext,
-        module: &wgpu::ShaderModule,
-        brdf_layout: Option<&wgpu::BindGroupLayout>,
-        targets: &[Option<wgpu::ColorTargetState>],
-    ) -> wgpu::RenderPipeline {
-        let device = &context.device;
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("background"),
-            bind_group_layouts: &[
-                brdf_layout,
-                Some(&self.frame_layout),
-                Some(&self.lighting_layout),
-            ],
-            immediate_size: 0,
-        });
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("fs_background"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("vs_background"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some("fs_background"),
-                compilation_options: Default::default(),
-                targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
     }
 
     fn write_uniforms(&self, queue: &wgpu::Queue, settings: &FrameSettings, size: (u32, u32)) {
@@ -447,32 +325,50 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        let pipelines = self.current.as_ref().expect("Renderer::new sets a BRDF");
-        pass.set_bind_group(0, &self.brdf_group, &[]);
+        let current = self.current.as_ref().expect("Renderer::new sets a BRDF");
+        pass.set_bind_group(0, &current.group, &[]);
         pass.set_bind_group(1, &self.frame_group, &[]);
         pass.set_bind_group(2, &self.lighting_group, &[]);
+        let linear = targets.linear.is_some();
+        let needs_linear = "a linear target needs a renderer made with a linear output";
         if self.environment.is_some() && settings.environment_samples > 0 {
-            let background = match targets.linear {
-                Some(_) => pipelines
-                    .background_linear
-                    .as_ref()
-                    .expect("a linear target needs a renderer made with a linear output"),
-                None => &pipelines.background,
+            let pipelines = &current.pipelines;
+            let background = match linear {
+                true => pipelines.background_linear.as_ref().expect(needs_linear),
+                false => &pipelines.background,
             };
             pass.set_pipeline(background);
             pass.draw(0..3, 0..1);
         }
-        let pipeline = match targets.linear {
-            Some(_) => pipelines
-                .display_linear
-                .as_ref()
-                .expect("a linear target needs a renderer made with a linear output"),
-            None => &pipelines.display,
-        };
-        pass.set_pipeline(pipeline);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..self.index_count, 0, 0..1);
+        let (width, height) = targets.size;
+        // Each half drawn once, under its own scissor: a second draw of the same mesh would
+        // fail the depth test the first one wrote.
+        let left = if self.split.is_some() {
+            width / 2
+        } else {
+            width
+        };
+        let halves = [
+            Some((current, (0, left))),
+            self.split
+                .as_ref()
+                .map(|right| (right, (left, width - left))),
+        ];
+        for (brdf, (x, w)) in halves.into_iter().flatten() {
+            if w == 0 || height == 0 {
+                continue;
+            }
+            let pipelines = &brdf.pipelines;
+            pass.set_pipeline(match linear {
+                true => pipelines.display_linear.as_ref().expect(needs_linear),
+                false => &pipelines.display,
+            });
+            pass.set_bind_group(0, &brdf.group, &[]);
+            pass.set_scissor_rect(x, 0, w, height);
+            pass.draw_indexed(0..self.index_count, 0, 0..1);
+        }
     }
 
     /// Records the G-buffer of the view: per pixel the world position (w = 1 where the cloth
@@ -492,7 +388,14 @@ impl Renderer {
                 std::array::from_fn(|_| Some(GBUFFER_FORMAT.into()));
             let pipeline = context.checked(|| {
                 let module = shader_module(context, &source);
-                self.pipeline(context, &module, [None, None], "fs_gbuffer", &formats)
+                mesh_pipeline(
+                    context,
+                    &self.frame_layout,
+                    &module,
+                    [None, None],
+                    "fs_gbuffer",
+                    &formats,
+                )
             })?;
             self.gbuffer_pipeline = Some(pipeline);
         }
@@ -542,7 +445,7 @@ pub fn render_wgsl(brdf_wgsl: &str) -> String {
         .expect("the render shader composes (validated in the tests)")
 }
 
-fn shader_module(context: &GpuContext, source: &str) -> wgpu::ShaderModule {
+pub(super) fn shader_module(context: &GpuContext, source: &str) -> wgpu::ShaderModule {
     context
         .device
         .create_shader_module(wgpu::ShaderModuleDescriptor {
