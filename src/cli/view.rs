@@ -5,7 +5,15 @@ use super::options::{
     NodeArgs, SHADER_WORDS, SceneArgs, older_shader_word, older_spelling, older_words,
 };
 use clothbake::evaluator::{self, EvaluatorSpec, paper};
-use clothbake::viewer::{self, ViewOptions};
+use clothbake::editor::script::Script;
+use clothbake::editor::session::EditSession;
+use clothbake::evaluator::Evaluator;
+use clothbake::render::median;
+use clothbake::scene::Scene;
+use clothbake::table::Layout;
+use clothbake::viewer::{self, EditSetup, EditTimings, ViewOptions};
+use std::path::PathBuf;
+use std::sync::Arc;
 
 /// The evaluators key V cycles through when `--evaluator` names none: the table, paper mode,
 /// the resonant quadrature.
@@ -36,6 +44,17 @@ pub struct Args {
     samples: Option<u32>,
     #[command(flatten)]
     nodes: NodeArgs,
+    /// Edit a fabric with the panel: a built-in fabric, a named weave (`satin`, `twill:2/1`),
+    /// a fabric file (with --fabric to choose among its fabrics) or a WIF file; alone, the
+    /// fabric --fabric or the scene names first. The drape is shaded by the first
+    /// --evaluator that is not a table (default: resonant) and its table is baked in the
+    /// background.
+    #[arg(long, num_args = 0..=1, default_missing_value = "", value_name = "FABRIC_OR_FILE")]
+    edit: Option<String>,
+    /// With --edit: run the panel's actions from FILE, one per line, frame by frame, then
+    /// exit (docs/editor.md#scripts); exits with an error if a step failed.
+    #[arg(long, requires = "edit")]
+    script: Option<PathBuf>,
 }
 
 pub fn run(args: Args) -> CommandResult {
@@ -55,13 +74,19 @@ pub fn run(args: Args) -> CommandResult {
     } else {
         args.evaluator.into_iter().map(|spec| spec.0).collect()
     };
+    let scene = args.scene.load()?;
+    let edit = match &args.edit {
+        None => None,
+        Some(target) => Some(edit_setup(target, &args, &scene, &evaluators)?),
+    };
     let summary = viewer::run(ViewOptions {
-        scene: args.scene.load()?,
+        scene,
         fabric: args.fabric,
         tables: args.scene.tables,
         mesh: args.scene.mesh,
         frames: args.frames,
         evaluators,
+        edit,
     })?;
     let ms = |v: Option<f64>| v.map_or_else(|| "n/a".to_string(), |v| format!("{v:.2} ms"));
     println!(
@@ -71,5 +96,61 @@ pub fn run(args: Args) -> CommandResult {
         ms(summary.median_frame_ms),
         ms(summary.median_gpu_ms)
     );
+    if let Some(edit) = summary.edit {
+        print_edit_summary(&edit.timings);
+        if edit.failed_steps > 0 {
+            return Err(format!("{} script step(s) failed (see above)", edit.failed_steps).into());
+        }
+    }
     Ok(())
+}
+
+/// The session `--edit TARGET` opens, the evaluator edits are shaded by, the background
+/// bake's table and the script.
+fn edit_setup(
+    target: &str,
+    args: &Args,
+    scene: &Scene,
+    evaluators: &[Arc<dyn Evaluator>],
+) -> Result<EditSetup, Box<dyn std::error::Error>> {
+    let session = if !target.is_empty() {
+        EditSession::from_target(target, args.fabric.as_deref())?
+    } else {
+        let name = args.fabric.as_deref().or(scene.fabrics.first().map(String::as_str));
+        let name = name.ok_or("the scene names no fabric to edit")?;
+        match &scene.fabric_file {
+            Some(file) => EditSession::from_file(file, Some(name))?,
+            None => EditSession::builtin(name)?,
+        }
+    };
+    let table = |e: &Arc<dyn Evaluator>| {
+        evaluator::unit_of(&e.spelling()).is_some_and(|unit| unit.name == "table")
+    };
+    let evaluator = match evaluators.iter().find(|e| !table(e)) {
+        Some(e) => e.clone(),
+        None => evaluator::parse("resonant")?,
+    };
+    let script = args.script.as_deref().map(Script::load).transpose()?;
+    Ok(EditSetup {
+        session,
+        evaluator,
+        table: (Layout::DEFAULT, Layout::DEFAULT.default_resolution()),
+        script,
+    })
+}
+
+/// The editing session's frame times, as medians (milliseconds).
+fn print_edit_summary(timings: &EditTimings) {
+    let line = |what: &str, values: &[f64]| match median(values) {
+        Some(m) => println!(
+            "clothbake view: {what}: median {m:.2} ms over {} frames, longest {:.2} ms",
+            values.len(),
+            values.iter().copied().fold(0.0, f64::max)
+        ),
+        None => println!("clothbake view: {what}: no frames"),
+    };
+    line("frame shaded by the model", &timings.model_frames);
+    line("frame shaded by the table", &timings.table_frames);
+    line("frame while a bake ran", &timings.baking_frames);
+    line("edit to its first shaded frame", &timings.edit_to_frame);
 }

@@ -264,7 +264,7 @@ pub(super) fn map_read(context: &GpuContext, buffer: &wgpu::Buffer) -> Result<Ve
 }
 
 /// Reads a 2D texture of `texel_bytes` per texel back, rows unpadded, top to bottom.
-fn read_texture(
+pub fn read_texture(
     context: &GpuContext,
     texture: &wgpu::Texture,
     texel_bytes: u32,

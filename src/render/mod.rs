@@ -45,7 +45,9 @@ mod timing;
 pub use camera::Camera;
 pub use environment_map::GpuEnvironment;
 pub use frame::{BACKGROUND, FrameSettings};
-pub use headless::{GBuffer, HEADLESS_COLOR_FORMAT, Headless, MAX_IMAGE_SIDE, RenderOutput};
+pub use headless::{
+    GBuffer, HEADLESS_COLOR_FORMAT, Headless, MAX_IMAGE_SIDE, RenderOutput, read_texture,
+};
 pub use lights::LightSource;
 #[cfg(test)]
 pub(crate) use renderer::STUB_BRDF_WGSL;

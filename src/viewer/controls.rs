@@ -155,6 +155,13 @@ impl OrbitControl {
     pub fn reset(&mut self) {
         self.camera = self.home;
     }
+
+    /// Turns the eye to `yaw_deg` about +y and `pitch_deg` above the target (clamped as a
+    /// drag is), at the same distance.
+    pub fn aim(&mut self, yaw_deg: f64, pitch_deg: f64) {
+        self.camera.yaw_deg = yaw_deg.rem_euclid(360.0);
+        self.camera.pitch_deg = pitch_deg.clamp(-MAX_PITCH_DEG, MAX_PITCH_DEG);
+    }
 }
 
 /// Wheel notches from a pixel delta (touchpads): [`PIXELS_PER_LINE`] pixels a notch.
@@ -214,12 +221,7 @@ impl LightControl {
         self.lights = self.home.clone();
         self.spinning = false;
         if let Some(Light::Directional { direction, .. }) = self.index.map(|i| self.home[i]) {
-            // Direction → angles: elevation = asin(y/|d|), azimuth = atan2(x, z); the scene
-            // file forbids the zero vector.
-            let [x, y, z] = direction;
-            let length = (x * x + y * y + z * z).sqrt().max(f64::MIN_POSITIVE);
-            self.elevation_deg = (y / length).clamp(-1.0, 1.0).asin().to_degrees();
-            self.azimuth_deg = x.atan2(z).to_degrees();
+            (self.azimuth_deg, self.elevation_deg) = direction_angles(direction);
             // A light given exactly overhead keeps its direction until moved; clamping it
             // here would change the scene's look.
         }
@@ -242,12 +244,56 @@ impl LightControl {
         }
     }
 
+    /// The scene's directional lights: (index in the scene, azimuth, elevation) in degrees.
+    pub fn directional_angles(&self) -> Vec<(usize, f64, f64)> {
+        self.lights
+            .iter()
+            .enumerate()
+            .filter_map(|(i, light)| match light {
+                Light::Directional { direction, .. } => {
+                    let (azimuth, elevation) = direction_angles(*direction);
+                    Some((i, azimuth.rem_euclid(360.0), elevation))
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Points the scene's light `index`, a directional one, from `azimuth_deg` and
+    /// `elevation_deg` (clamped to ±85° as the keys do).
+    pub fn aim(&mut self, index: usize, azimuth_deg: f64, elevation_deg: f64) -> Result<(), String> {
+        let count = self.lights.len();
+        let Some(Light::Directional { direction, .. }) = self.lights.get_mut(index) else {
+            return Err(format!(
+                "the scene has no directional light {index} (it has {count} lights, from 0)"
+            ));
+        };
+        let elevation_deg = elevation_deg.clamp(-MAX_LIGHT_ELEVATION_DEG, MAX_LIGHT_ELEVATION_DEG);
+        let (az, el) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
+        *direction = [el.cos() * az.sin(), el.sin(), el.cos() * az.cos()];
+        if self.index == Some(index) {
+            self.azimuth_deg = azimuth_deg.rem_euclid(360.0);
+            self.elevation_deg = elevation_deg;
+        }
+        Ok(())
+    }
+
     /// Advances the spin by `seconds` of wall time, if spinning.
     pub fn advance(&mut self, seconds: f64) {
         if self.spinning {
             self.rotate(LIGHT_SPIN_DEG_PER_S * seconds, 0.0);
         }
     }
+}
+
+/// A direction towards a light as (azimuth, elevation) in degrees: elevation = asin(y/|d|),
+/// azimuth = atan2(x, z); the scene file forbids the zero vector.
+fn direction_angles([x, y, z]: [f64; 3]) -> (f64, f64) {
+    let length = (x * x + y * y + z * z).sqrt().max(f64::MIN_POSITIVE);
+    (
+        x.atan2(z).to_degrees(),
+        (y / length).clamp(-1.0, 1.0).asin().to_degrees(),
+    )
 }
 
 /// Frame intervals (CPU wall time between successive frames) and GPU times, in
@@ -297,6 +343,11 @@ impl FrameStats {
     /// Median of all GPU times so far.
     pub fn median_gpu(&self) -> Option<f64> {
         median(&self.gpu)
+    }
+
+    /// Median of the frame intervals since the title's last update.
+    pub fn median_recent(&self) -> Option<f64> {
+        median(&self.recent_intervals)
     }
 
     /// Medians (interval, GPU time) since the last call, and starts a new window.

@@ -27,7 +27,7 @@ pub use controls::KEY_HELP;
 use crate::evaluator::Evaluator;
 use crate::evaluator::table::load_fabric_table;
 use crate::formats::fabric_toml::FabricSet;
-use crate::formats::table_exr::fabric_table_file;
+use crate::formats::table_exr::{TableFile, fabric_table_file};
 use crate::model::Fabric;
 use crate::scene::mesh::Mesh;
 use crate::scene::{MeshKind, MeshSpec, OrbitCamera, Scene};
@@ -51,6 +51,8 @@ pub struct ViewOptions {
     /// The evaluators key V cycles through, the first shown at start (each through its GPU
     /// form; at least one).
     pub evaluators: Vec<Arc<dyn Evaluator>>,
+    /// `view --edit`: edit this fabric with the panel instead of showing the scene's list.
+    pub edit: Option<EditSetup>,
 }
 
 /// What a viewing session measured.
@@ -64,6 +66,15 @@ pub struct ViewSummary {
     /// Median GPU time of the cloth pass from timestamps, milliseconds (when the adapter
     /// offers timestamps).
     pub median_gpu_ms: Option<f64>,
+    /// What an editing session measured.
+    pub edit: Option<EditSummary>,
+}
+
+/// The frame times of an editing session and the script steps that failed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EditSummary {
+    pub timings: EditTimings,
+    pub failed_steps: usize,
 }
 
 /// Why the viewer could not run.
@@ -110,41 +121,17 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
             ..MeshSpec::default()
         };
     }
-    if !options.tables.is_dir() {
-        return Err(ViewError::Setup(format!(
-            "tables directory {} does not exist or is not a directory (bake tables into it \
-             with `clothbake bake --out {}`)",
-            options.tables.display(),
-            options.tables.display()
-        )));
-    }
     if options.evaluators.is_empty() {
         return Err(ViewError::Setup("no evaluator to show".into()));
     }
-    let (names, first) = fabric_list(&scene, options.fabric.as_deref());
-    let set = FabricSet::load_or_builtin(scene.fabric_file.as_deref())
-        .map_err(|e| ViewError::Setup(e.to_string()))?;
-    let fabrics: Vec<Fabric> = names
-        .iter()
-        .map(|name| set.require(name).cloned())
-        .collect::<Result<_, _>>()
-        .map_err(|e| ViewError::Setup(e.to_string()))?;
-    // The first table before any window: a missing or stale table is reported at once (the
-    // others when selected).
-    let table = load_fabric_table(&options.tables, &fabrics[first])
-        .map_err(|e| ViewError::Setup(e.to_string()))?;
-    let missing: Vec<&str> = names
-        .iter()
-        .filter(|n| !options.tables.join(fabric_table_file(n)).is_file())
-        .map(String::as_str)
-        .collect();
-    if !missing.is_empty() {
-        eprintln!(
-            "clothbake view: note: no table in {} for {} (selecting them reports the missing table)",
-            options.tables.display(),
-            missing.join(", ")
-        );
-    }
+    let (fabrics, first, table) = match &options.edit {
+        // The editor bakes its own tables.
+        Some(edit) => (vec![edit.session.fabric().clone()], 0, None),
+        None => {
+            let (fabrics, first, table) = fabric_list_and_table(&scene, &options)?;
+            (fabrics, first, Some(table))
+        }
+    };
     let mesh = Mesh::from_spec(&scene.mesh).map_err(|e| ViewError::Setup(e.to_string()))?;
     if options.mesh.is_some() {
         // A user's mesh may be of any size and anywhere: aim the scene's camera at it.
@@ -182,9 +169,50 @@ pub fn run(options: ViewOptions) -> Result<ViewSummary, ViewError> {
             tables: options.tables,
             frames: options.frames,
             evaluators: options.evaluators,
+            edit: options.edit,
         },
         table,
     )
+}
+
+/// The fabrics the viewer moves through, the index of the first shown and its table (read
+/// before any window, so that a missing or stale table is reported at once; the others'
+/// when selected).
+fn fabric_list_and_table(
+    scene: &Scene,
+    options: &ViewOptions,
+) -> Result<(Vec<Fabric>, usize, TableFile), ViewError> {
+    if !options.tables.is_dir() {
+        return Err(ViewError::Setup(format!(
+            "tables directory {} does not exist or is not a directory (bake tables into it \
+             with `clothbake bake --out {}`)",
+            options.tables.display(),
+            options.tables.display()
+        )));
+    }
+    let (names, first) = fabric_list(scene, options.fabric.as_deref());
+    let set = FabricSet::load_or_builtin(scene.fabric_file.as_deref())
+        .map_err(|e| ViewError::Setup(e.to_string()))?;
+    let fabrics: Vec<Fabric> = names
+        .iter()
+        .map(|name| set.require(name).cloned())
+        .collect::<Result<_, _>>()
+        .map_err(|e| ViewError::Setup(e.to_string()))?;
+    let table = load_fabric_table(&options.tables, &fabrics[first])
+        .map_err(|e| ViewError::Setup(e.to_string()))?;
+    let missing: Vec<&str> = names
+        .iter()
+        .filter(|n| !options.tables.join(fabric_table_file(n)).is_file())
+        .map(String::as_str)
+        .collect();
+    if !missing.is_empty() {
+        eprintln!(
+            "clothbake view: note: no table in {} for {} (selecting them reports the missing table)",
+            options.tables.display(),
+            missing.join(", ")
+        );
+    }
+    Ok((fabrics, first, table))
 }
 
 /// `camera` turned on a sphere of `radius` at `centre`: same angles, looking at the centre

@@ -2,9 +2,13 @@
 //! wording of the window system's errors.
 
 use super::ViewError;
+use super::edit::overlay::Overlay;
 use super::timer::GpuTimer;
 use crate::gpu::GpuContext;
-use crate::render::{DEPTH_FORMAT, GpuEnvironment, Renderer};
+use crate::render::image::Rgba8Image;
+use crate::render::{
+    DEPTH_FORMAT, FrameSettings, FrameTargets, GpuEnvironment, Renderer, read_texture,
+};
 use std::sync::{Arc, Mutex};
 use winit::dpi::PhysicalSize;
 use winit::window::Window;
@@ -27,6 +31,17 @@ pub(super) struct Graphics {
     pub timer: Option<GpuTimer>,
     /// Validation errors wgpu reported outside any error scope (its default handler panics).
     pub uncaptured: Arc<Mutex<Option<String>>>,
+    /// The editing panel's UI, drawn over the drape (`view --edit`).
+    pub overlay: Option<Overlay>,
+}
+
+/// What [`Graphics::acquire`] got from the surface.
+pub(super) enum Acquired {
+    Frame(wgpu::SurfaceTexture),
+    /// Nothing to draw into this time (timed out, occluded, reconfigured): ask for another
+    /// frame.
+    Retry,
+    Failed(ViewError),
 }
 
 impl Graphics {
@@ -53,6 +68,112 @@ impl Graphics {
             .map_err(|e| ViewError::Display(format!("cannot recreate the wgpu surface: {e}")))?;
         self.configure();
         Ok(())
+    }
+
+    /// The surface's next texture, reconfiguring or recreating the surface where it asks.
+    pub fn acquire(&mut self) -> Acquired {
+        match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(frame) => Acquired::Frame(frame),
+            wgpu::CurrentSurfaceTexture::Suboptimal(frame) => {
+                // Draw this one; reconfigure for the next.
+                self.configure();
+                Acquired::Frame(frame)
+            }
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+                Acquired::Retry
+            }
+            wgpu::CurrentSurfaceTexture::Outdated => {
+                self.configure();
+                Acquired::Retry
+            }
+            wgpu::CurrentSurfaceTexture::Lost => match self.recreate_surface() {
+                Ok(()) => Acquired::Retry,
+                Err(e) => Acquired::Failed(e),
+            },
+            wgpu::CurrentSurfaceTexture::Validation => {
+                let message = self.take_uncaptured().unwrap_or_default();
+                Acquired::Failed(ViewError::Render(format!(
+                    "cannot acquire a surface texture: {message}"
+                )))
+            }
+        }
+    }
+
+    /// Records the drape shaded for `settings` into `texture` (the surface's format and
+    /// size) and, in edit mode, the panel over it; `timed`: the drape's pass is bracketed by
+    /// the GPU timer's timestamps.
+    pub fn record(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        texture: &wgpu::Texture,
+        settings: &FrameSettings,
+        timed: bool,
+    ) {
+        let timestamps = match timed {
+            true => self.timer.as_mut().and_then(|t| t.begin()),
+            false => None,
+        };
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let size = (self.config.width, self.config.height);
+        let targets = FrameTargets {
+            color: &view,
+            linear: None,
+            depth: &self.depth,
+            size,
+        };
+        self.renderer
+            .encode(&self.gpu.queue, encoder, &targets, settings, timestamps);
+        if let Some(overlay) = &mut self.overlay {
+            overlay.paint(&self.gpu, encoder, &view, size);
+        }
+    }
+
+    /// The window's next frame for `settings`, drawn offscreen and read back (a script's
+    /// screenshot; a surface texture cannot be read).
+    pub fn capture(&mut self, settings: &FrameSettings) -> Result<Rgba8Image, ViewError> {
+        let (width, height) = (self.config.width.max(1), self.config.height.max(1));
+        let format = self.config.format;
+        let texture = self.gpu.checked(|| {
+            self.gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("view screenshot"),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        })?;
+        let mut encoder = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("view screenshot"),
+            });
+        self.record(&mut encoder, &texture, settings, false);
+        self.gpu.queue.submit([encoder.finish()]);
+        let bytes = read_texture(&self.gpu, &texture, 4, (width, height))?;
+        let bgra = matches!(
+            format,
+            wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+        );
+        let pixels = bytes
+            .chunks_exact(4)
+            .map(|p| match bgra {
+                true => [p[2], p[1], p[0], 255],
+                false => [p[0], p[1], p[2], 255],
+            })
+            .collect();
+        Ok(Rgba8Image {
+            width,
+            height,
+            pixels,
+        })
     }
 
     pub fn take_uncaptured(&self) -> Option<String> {

@@ -6,6 +6,24 @@ use winit::event_loop::ActiveEventLoop;
 
 impl App {
     pub(super) fn handle(&mut self, event_loop: &ActiveEventLoop, action: Action) {
+        if self.editing.is_some() {
+            match action {
+                Action::CycleFabric(_)
+                | Action::SelectFabric(_)
+                | Action::CycleEvaluator(_)
+                | Action::Finer(_) => {
+                    println!(
+                        "clothbake view: while editing, the panel chooses what shades the drape"
+                    );
+                    return;
+                }
+                Action::ToggleEnvironment if self.setup.environment.is_some() => {
+                    self.environment_on = !self.environment_on;
+                    return;
+                }
+                _ => {}
+            }
+        }
         let (index, slot) = (self.current, self.evaluator);
         let shown = self.evaluators[slot].clone();
         match action {

@@ -1,9 +1,10 @@
 //! One frame of the viewer: the settings the controls give, drawing and presenting.
 
 use super::{App, TITLE_PERIOD};
-use crate::render::{Camera, FrameSettings, FrameTargets, LightSource};
+use crate::render::{Camera, FrameSettings, LightSource};
 use crate::viewer::ViewError;
 use crate::viewer::controls;
+use crate::viewer::surface::Acquired;
 use std::time::Instant;
 use winit::event_loop::ActiveEventLoop;
 
@@ -34,6 +35,7 @@ impl App {
         let interval = self.last_frame.map(|t| now - t);
         self.light
             .advance(interval.map_or(0.0, |d| d.as_secs_f64()));
+        self.edit_frame(event_loop);
         let settings = self.frame_settings();
         let Some(g) = &mut self.graphics else {
             return;
@@ -47,63 +49,33 @@ impl App {
             // Minimised: nothing to draw until resized.
             return;
         }
-        let frame = match g.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(frame) => frame,
-            wgpu::CurrentSurfaceTexture::Suboptimal(frame) => {
-                // Draw this one; reconfigure for the next.
-                g.configure();
-                frame
-            }
-            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+        let frame = match g.acquire() {
+            Acquired::Frame(frame) => frame,
+            Acquired::Retry => {
                 g.window.request_redraw();
                 return;
             }
-            wgpu::CurrentSurfaceTexture::Outdated => {
-                g.configure();
-                g.window.request_redraw();
-                return;
-            }
-            wgpu::CurrentSurfaceTexture::Lost => {
-                if let Err(e) = g.recreate_surface() {
-                    self.fail(event_loop, e);
-                    return;
-                }
-                g.window.request_redraw();
-                return;
-            }
-            wgpu::CurrentSurfaceTexture::Validation => {
-                let message = g.take_uncaptured().unwrap_or_default();
-                self.fail(
-                    event_loop,
-                    ViewError::Render(format!("cannot acquire a surface texture: {message}")),
-                );
+            Acquired::Failed(e) => {
+                self.fail(event_loop, e);
                 return;
             }
         };
-        let view = frame
-            .texture
-            .create_view(&wgpu::TextureViewDescriptor::default());
         let mut encoder = g
             .gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("view frame"),
             });
-        let targets = FrameTargets {
-            color: &view,
-            linear: None,
-            depth: &g.depth,
-            size: (g.config.width, g.config.height),
-        };
-        let writes = g.timer.as_mut().and_then(|t| t.begin());
-        g.renderer
-            .encode(&g.gpu.queue, &mut encoder, &targets, &settings, writes);
+        g.record(&mut encoder, &frame.texture, &settings, true);
         if let Some(timer) = &g.timer {
             timer.resolve(&mut encoder);
         }
         g.gpu.queue.submit([encoder.finish()]);
         if let Some(timer) = &mut g.timer {
             timer.submitted();
+        }
+        if let Some(overlay) = &mut g.overlay {
+            overlay.submitted();
         }
         g.window.pre_present_notify();
         g.gpu.queue.present(frame);
@@ -112,16 +84,23 @@ impl App {
             return;
         }
         self.last_frame = Some(now);
-        self.stats.frame(interval.map(|d| d.as_secs_f64() * 1000.0));
+        let interval_ms = interval.map(|d| d.as_secs_f64() * 1000.0);
+        self.stats.frame(interval_ms);
+        self.edit_presented(interval_ms, Instant::now());
         if now - self.last_title >= TITLE_PERIOD {
             self.last_title = now;
             let (interval_ms, gpu_ms) = self.stats.take_recent();
-            let title = controls::title(
-                &self.setup.fabrics[self.current].name,
-                &self.shown_spelling(),
-                interval_ms,
-                gpu_ms,
-            );
+            let (name, shown) = match &self.editing {
+                Some(editing) => (
+                    editing.editor.session.fabric().name.clone(),
+                    editing.editor.display_label(),
+                ),
+                None => (
+                    self.setup.fabrics[self.current].name.clone(),
+                    self.shown_spelling(),
+                ),
+            };
+            let title = controls::title(&name, &shown, interval_ms, gpu_ms);
             if let Some(g) = &self.graphics {
                 g.window.set_title(&title);
             }

@@ -3,7 +3,10 @@
 //! the surface itself, so the frame interval measures what a frame costs.
 
 mod actions;
+mod edit;
 mod frame;
+
+pub use edit::{EditSetup, EditTimings};
 
 use crate::evaluator::table::load_fabric_table;
 use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError};
@@ -18,6 +21,8 @@ use crate::scene::mesh::Mesh;
 use crate::viewer::controls::{
     self, FrameStats, LightControl, OrbitControl, action_for_key, pixels_to_lines,
 };
+use crate::viewer::edit::editor::Editor;
+use crate::viewer::edit::overlay::Overlay;
 use crate::viewer::shading::FabricGpu;
 use crate::viewer::surface::{Graphics, depth_view, os_message, surface_config};
 use crate::viewer::timer::GpuTimer;
@@ -33,6 +38,9 @@ use winit::window::{Window, WindowId};
 
 /// Initial window size (physical pixels).
 const WINDOW_SIZE: PhysicalSize<u32> = PhysicalSize::new(1024, 768);
+/// Initial window size with the editing panels, which take the sides (the drape shows
+/// between them, as wide as without them).
+pub const EDIT_WINDOW_SIZE: PhysicalSize<u32> = PhysicalSize::new(1280, 800);
 /// How often the title's frame times are refreshed.
 const TITLE_PERIOD: Duration = Duration::from_millis(250);
 
@@ -50,6 +58,8 @@ pub(super) struct Setup {
     pub frames: Option<u32>,
     /// The evaluators key V cycles through, the first shown at start.
     pub evaluators: Vec<Arc<dyn Evaluator>>,
+    /// `view --edit`: the fabric edited, instead of the fabric list.
+    pub edit: Option<EditSetup>,
 }
 
 /// Why the viewer could not show a fabric by an evaluator (the view stays as it was).
@@ -69,7 +79,7 @@ pub(super) enum ShowError {
 }
 
 /// Runs the event loop until the window closes; `table` is the first fabric's.
-pub(super) fn run(setup: Setup, table: TableFile) -> Result<ViewSummary, ViewError> {
+pub(super) fn run(setup: Setup, table: Option<TableFile>) -> Result<ViewSummary, ViewError> {
     // winit loads the X11 client libraries at run time and panics when libxkbcommon-x11 is
     // missing (the others give an error): turn that into the same kind of error.
     let event_loop = std::panic::catch_unwind(EventLoop::new)
@@ -100,6 +110,10 @@ pub(super) fn run(setup: Setup, table: TableFile) -> Result<ViewSummary, ViewErr
         frames: app.stats.frames(),
         median_frame_ms: app.stats.median_interval(),
         median_gpu_ms: app.stats.median_gpu(),
+        edit: app.editing.as_ref().map(|editing| super::EditSummary {
+            timings: editing.timings.clone(),
+            failed_steps: editing.failures,
+        }),
     })
 }
 
@@ -127,11 +141,13 @@ struct App {
     last_frame: Option<Instant>,
     last_title: Instant,
     graphics: Option<Graphics>,
+    /// `view --edit`: the editor, once the window's device exists.
+    editing: Option<edit::Editing>,
     error: Option<ViewError>,
 }
 
 impl App {
-    fn new(setup: Setup, table: TableFile) -> Self {
+    fn new(setup: Setup, table: Option<TableFile>) -> Self {
         Self {
             orbit: OrbitControl::new(setup.scene.camera),
             light: LightControl::new(&setup.scene.lights),
@@ -147,8 +163,9 @@ impl App {
             last_frame: None,
             last_title: Instant::now(),
             graphics: None,
+            editing: None,
             error: None,
-            first_table: Some(table),
+            first_table: table,
             setup,
         }
     }
@@ -167,9 +184,13 @@ impl App {
 
     /// The window, surface, device and renderer, showing the first fabric by lookup.
     fn create_graphics(&mut self, event_loop: &ActiveEventLoop) -> Result<Graphics, ViewError> {
+        let size = match self.setup.edit {
+            Some(_) => EDIT_WINDOW_SIZE,
+            None => WINDOW_SIZE,
+        };
         let attributes = Window::default_attributes()
             .with_title("clothbake view")
-            .with_inner_size(WINDOW_SIZE);
+            .with_inner_size(size);
         let window = Arc::new(
             event_loop
                 .create_window(attributes)
@@ -196,27 +217,49 @@ impl App {
                     slot.get_or_insert_with(|| error.to_string());
                 }
             }));
-        let table = self
-            .first_table
-            .take()
-            .ok_or_else(|| ViewError::Render("the first table was already used".into()))?;
-        let first =
-            FabricGpu::with_table(&gpu, table).map_err(|e| ViewError::Render(e.to_string()))?;
         let environment = self
             .setup
             .environment
             .as_ref()
             .map(|split| GpuEnvironment::split(&gpu, split))
             .transpose()?;
-        let renderer = Renderer::new(
-            &gpu,
-            config.format,
-            false,
-            &self.setup.mesh,
-            first.shown[0].brdf.as_ref(),
-        )?;
         let mut fabrics: Vec<Option<FabricGpu>> = self.setup.fabrics.iter().map(|_| None).collect();
-        fabrics[self.current] = Some(first);
+        let (renderer, overlay) = match self.setup.edit.take() {
+            Some(setup) => {
+                let samples = environment
+                    .as_ref()
+                    .map(|_| self.setup.scene.environment.samples);
+                let editor = Editor::new(setup.session, setup.evaluator, &gpu, setup.table, samples)
+                    .map_err(|e| ViewError::Render(e.to_string()))?;
+                let renderer = Renderer::new(
+                    &gpu,
+                    config.format,
+                    false,
+                    &self.setup.mesh,
+                    editor.display().0,
+                )?;
+                let editing = edit::Editing::new(editor, setup.script);
+                let overlay = Overlay::new(&window, &gpu, config.format, editing.scripted());
+                self.editing = Some(editing);
+                (renderer, Some(overlay))
+            }
+            None => {
+                let table = self.first_table.take().ok_or_else(|| {
+                    ViewError::Render("the first table was already used".into())
+                })?;
+                let first = FabricGpu::with_table(&gpu, table)
+                    .map_err(|e| ViewError::Render(e.to_string()))?;
+                let renderer = Renderer::new(
+                    &gpu,
+                    config.format,
+                    false,
+                    &self.setup.mesh,
+                    first.shown[0].brdf.as_ref(),
+                )?;
+                fabrics[self.current] = Some(first);
+                (renderer, None)
+            }
+        };
         let depth = depth_view(&gpu, &config);
         let timer = GpuTimer::new(&gpu);
         let graphics = Graphics {
@@ -231,6 +274,7 @@ impl App {
             fabrics,
             timer,
             uncaptured,
+            overlay,
         };
         graphics.configure();
         Ok(graphics)
@@ -335,6 +379,9 @@ impl ApplicationHandler for App {
                 println!("{}", controls::KEY_HELP);
                 graphics.window.request_redraw();
                 self.graphics = Some(graphics);
+                if self.editing.is_some() {
+                    return;
+                }
                 // Asked for on the command line: failing to build it is an error.
                 let first = self.evaluators[0].clone();
                 if let Err(error) = self.show(self.current, 0, first) {
@@ -349,6 +396,14 @@ impl ApplicationHandler for App {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         if self.error.is_some() {
+            return;
+        }
+        if let Some(g) = &mut self.graphics
+            && let Some(overlay) = &mut g.overlay
+            && overlay.on_window_event(&g.window, &event)
+        {
+            // The panel took it (a click on it, a key typed into a field).
+            g.window.request_redraw();
             return;
         }
         match event {

@@ -1,8 +1,8 @@
 //! egui over the drape: the UI context, its winit input and its wgpu painter.
 //!
-//! The window's surface is sRGB (the renderer leaves the encoding to the format); egui's
-//! painter expects to write gamma-space colours itself, so it draws into a non-sRGB view of
-//! the same texture ([`Overlay::view_format`], added to the surface's `view_formats`).
+//! The painter draws into the window's own format. On an sRGB surface egui-wgpu switches to
+//! its shader for linear framebuffers; a non-sRGB view of the surface would need a
+//! swapchain whose format can be reinterpreted, which not every Vulkan driver offers.
 
 use crate::gpu::GpuContext;
 use winit::window::Window;
@@ -26,18 +26,13 @@ struct LaidOut {
 }
 
 impl Overlay {
-    /// The format egui draws in: the surface's without its sRGB encoding.
-    pub fn view_format(surface_format: wgpu::TextureFormat) -> wgpu::TextureFormat {
-        surface_format.remove_srgb_suffix()
-    }
-
-    /// A UI for `window`, painting into views of [`Overlay::view_format`]. `scripted` fixes
+    /// A UI for `window`, painting into textures of `format`. `scripted` fixes
     /// the scale at one pixel per point and the clock, so that a script's screenshots are
     /// the same on every display.
     pub fn new(
         window: &Window,
         gpu: &GpuContext,
-        surface_format: wgpu::TextureFormat,
+        format: wgpu::TextureFormat,
         scripted: bool,
     ) -> Self {
         let context = egui::Context::default();
@@ -60,8 +55,7 @@ impl Overlay {
         } else {
             egui_wgpu::RendererOptions::default()
         };
-        let renderer =
-            egui_wgpu::Renderer::new(&gpu.device, Self::view_format(surface_format), options);
+        let renderer = egui_wgpu::Renderer::new(&gpu.device, format, options);
         if scripted {
             context.set_zoom_factor(1.0);
         }
@@ -107,8 +101,8 @@ impl Overlay {
         });
     }
 
-    /// Draws the UI laid out by the last [`Overlay::run`] over `view` (of
-    /// [`Overlay::view_format`], `size` pixels), keeping what is there. Records into
+    /// Draws the UI laid out by the last [`Overlay::run`] over `view` (`size` pixels),
+    /// keeping what is there. Records into
     /// `encoder`; the texture memory egui no longer needs is freed once it is submitted, at
     /// the next call.
     pub fn paint(
