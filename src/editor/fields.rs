@@ -5,12 +5,16 @@
 //! names entries by path; neither matches on field names.
 //!
 //! The slider extents are only that: whether a value is allowed is decided by
-//! [`Fabric::validate`] for the fabric's fields and by [`Yarn::set`] for the knobs.
+//! [`Fabric::validate`] for the fabric's fields and by [`crate::weave::Yarn::set`] for the knobs.
+
+mod fabric;
+mod knobs;
+
+pub use knobs::{Decides, linear_to_srgb};
 
 use crate::model::Fabric;
 use crate::model::fabric::MAX_CONTROL_POINTS;
-use crate::weave::{Family, Weave, Yarn};
-use serde::de::{DeserializeOwned, IntoDeserializer};
+use crate::weave::{Family, Weave};
 
 /// A value set on a field: by a slider or a number box ([`EditValue::Number`]), a colour
 /// picker or a list of control points ([`EditValue::Vector`]), a menu ([`EditValue::Choice`])
@@ -100,52 +104,6 @@ pub enum Access {
         get: fn(&Weave, Family) -> EditValue,
         decides: Decides,
     },
-}
-
-/// What a yarn knob decides of its thread when the weave is woven again: the rest of the
-/// fabric keeps what it holds, hand edits included.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Decides {
-    /// The thread's tangent curve (`offsets_deg` and `lengths`).
-    Curve,
-    /// Both threads' coverages (a family's cover changes how much of the other is seen).
-    Coverages,
-    Eta,
-    /// The thread's `albedo`.
-    Colour,
-    AlbedoScale,
-    Kd,
-    GammaS,
-    GammaV,
-}
-
-impl Decides {
-    /// Copies what this knob decides of `family`'s thread from `woven`, the fabric the weave
-    /// makes, into `fabric`.
-    pub fn take(self, family: Family, woven: &Fabric, fabric: &mut Fabric) {
-        if self == Decides::Coverages {
-            fabric.thread1.coverage = woven.thread1.coverage;
-            fabric.thread2.coverage = woven.thread2.coverage;
-            return;
-        }
-        let (from, to) = match family {
-            Family::Warp => (&woven.thread1, &mut fabric.thread1),
-            Family::Weft => (&woven.thread2, &mut fabric.thread2),
-        };
-        match self {
-            Decides::Curve => {
-                to.offsets_deg.clone_from(&from.offsets_deg);
-                to.lengths.clone_from(&from.lengths);
-            }
-            Decides::Coverages => {}
-            Decides::Eta => to.eta = from.eta,
-            Decides::Colour => to.albedo = from.albedo,
-            Decides::AlbedoScale => to.albedo_scale = from.albedo_scale,
-            Decides::Kd => to.kd = from.kd,
-            Decides::GammaS => to.gamma_s_deg = from.gamma_s_deg,
-            Decides::GammaV => to.gamma_v_deg = from.gamma_v_deg,
-        }
-    }
 }
 
 /// One editable field.
@@ -352,21 +310,6 @@ pub fn value_text(value: &EditValue) -> String {
     }
 }
 
-/// The variant of a serde enum named `text` as the fabric file names it.
-fn variant<T: DeserializeOwned>(text: &str) -> Option<T> {
-    T::deserialize(IntoDeserializer::<serde::de::value::Error>::into_deserializer(text)).ok()
-}
-
-/// The sRGB encoding of a linear component in [0, 1] (IEC 61966-2-1), the inverse of
-/// [`crate::weave::srgb_to_linear`].
-pub fn linear_to_srgb(c: f64) -> f64 {
-    if c <= 0.0031308 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
-}
-
 /// The registry entry of `path`.
 pub fn field(path: &str) -> Option<&'static FieldSpec> {
     FIELDS.iter().find(|f| f.path == path)
@@ -398,329 +341,9 @@ fn edit_distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
-/// A number of a thread.
-macro_rules! thread_number {
-    ($t:ident . $f:ident, $label:expr, $unit:expr, $range:expr) => {
-        FieldSpec {
-            path: concat!(stringify!($t), ".", stringify!($f)),
-            label: $label,
-            unit: $unit,
-            range: $range,
-            access: Access::Number {
-                get: |fabric| fabric.$t.$f,
-                set: |fabric, v| fabric.$t.$f = v,
-            },
-        }
-    };
-}
-
-/// A list of a thread's tangent curve.
-macro_rules! thread_list {
-    ($t:ident . $f:ident, $label:expr, $unit:expr, $range:expr, $set:expr) => {
-        FieldSpec {
-            path: concat!(stringify!($t), ".", stringify!($f)),
-            label: $label,
-            unit: $unit,
-            range: $range,
-            access: Access::List {
-                get: |fabric| &fabric.$t.$f,
-                set: $set,
-            },
-        }
-    };
-}
-
-/// Every field of one thread.
-macro_rules! thread_fields {
-    ($t:ident) => {
-        [
-            thread_number!($t.eta, "η, refractive index", "", (1.0, 2.5)),
-            FieldSpec {
-                path: concat!(stringify!($t), ".albedo"),
-                label: "albedo colour, linear RGB",
-                unit: "",
-                range: (0.0, 1.0),
-                access: Access::Rgb {
-                    get: |fabric| fabric.$t.albedo,
-                    set: |fabric, v| fabric.$t.albedo = v,
-                },
-            },
-            thread_number!($t.albedo_scale, "albedo scale", "", (0.0, 10.0)),
-            thread_number!($t.kd, "kd, isotropic share", "", (0.0, 1.0)),
-            thread_number!($t.gamma_s_deg, "γs, surface lobe width", "°", (0.1, 90.0)),
-            thread_number!($t.gamma_v_deg, "γv, volume lobe width", "°", (0.1, 90.0)),
-            thread_number!($t.coverage, "coverage", "", (0.0, 1.0)),
-            thread_list!(
-                $t.offsets_deg,
-                "tangent curve offsets",
-                "°",
-                (-90.0, 90.0),
-                |fabric, v| {
-                    let thread = &mut fabric.$t;
-                    resize_lengths(&mut thread.lengths, v.len());
-                    thread.offsets_deg = v;
-                }
-            ),
-            thread_list!(
-                $t.lengths,
-                "tangent curve segment lengths",
-                "",
-                (0.0, 10.0),
-                |fabric, v| fabric.$t.lengths = v
-            ),
-        ]
-    };
-}
-
-/// A list of offsets of another count of points keeps the lengths of the segments that
-/// remain and gives each new segment the last segment's length (1 where there was none), so
-/// that a curve can gain or lose points by editing its offsets alone.
-fn resize_lengths(lengths: &mut Vec<f64>, points: usize) {
-    let segments = points.saturating_sub(1);
-    let last = lengths.last().copied().unwrap_or(1.0);
-    lengths.resize(segments, last);
-}
-
-/// A yarn knob of one family.
-macro_rules! knob {
-    ($family:ident, $prefix:literal, $key:literal, $label:expr, $unit:expr, $range:expr,
-     $decides:ident, $get:expr) => {
-        knob!(
-            $family,
-            $prefix,
-            $key,
-            $label,
-            $unit,
-            $range,
-            $decides,
-            $get,
-            FieldKind::Number
-        )
-    };
-    ($family:ident, $prefix:literal, $key:literal, $label:expr, $unit:expr, $range:expr,
-     $decides:ident, $get:expr, $kind:expr) => {
-        FieldSpec {
-            path: concat!($prefix, ".", $key),
-            label: $label,
-            unit: $unit,
-            range: $range,
-            access: Access::Knob {
-                family: Family::$family,
-                key: $key,
-                kind: $kind,
-                get: $get,
-                decides: Decides::$decides,
-            },
-        }
-    };
-}
-
-/// Every knob of one family, as the `weave` command spells them (`YARN_KEYS`), with
-/// `fibre` left out: it is a name for an η, which `eta` sets.
-macro_rules! knobs {
-    ($family:ident, $prefix:literal) => {
-        [
-            knob!(
-                $family,
-                $prefix,
-                "crimp",
-                "crimp, largest tilt",
-                "°",
-                (0.0, 89.0),
-                Curve,
-                |w, f| EditValue::Number(w.yarn(f).crimp_deg)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "legs",
-                "legs, share of straight legs",
-                "",
-                (0.0, 0.95),
-                Curve,
-                |w, f| EditValue::Number(w.yarn(f).legs)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "flatten",
-                "flatten, flat share of long floats",
-                "",
-                (0.0, 1.0),
-                Curve,
-                |w, f| EditValue::Number(w.yarn(f).flatten)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "squash",
-                "squash of the arc",
-                "",
-                (0.0, 0.95),
-                Curve,
-                |w, f| EditValue::Number(w.yarn(f).squash)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "knee",
-                "knee of a squashed arc",
-                "",
-                (0.05, 0.95),
-                Curve,
-                |w, f| EditValue::Number(w.yarn(f).knee)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "sag",
-                "sag of long floats",
-                "°",
-                (0.0, 89.0),
-                Curve,
-                |w, f| EditValue::Number(w.yarn(f).sag_deg)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "cover",
-                "cover factor",
-                "",
-                (0.01, 1.0),
-                Coverages,
-                |w, f| EditValue::Number(w.cover(f))
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "eta",
-                "η, refractive index",
-                "",
-                (1.0, 3.0),
-                Eta,
-                |w, f| EditValue::Number(w.yarn(f).eta)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "colour",
-                "colour, sRGB",
-                "",
-                (0.0, 1.0),
-                Colour,
-                |w, f| EditValue::Vector(yarn_colour(w, f).to_vec()),
-                FieldKind::Colour(ColourSpace::Srgb)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "albedo_scale",
-                "albedo scale",
-                "",
-                (0.0, 10.0),
-                AlbedoScale,
-                |w, f| EditValue::Number(w.yarn(f).albedo_scale)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "kd",
-                "kd, isotropic share",
-                "",
-                (0.0, 1.0),
-                Kd,
-                |w, f| EditValue::Number(w.yarn(f).kd)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "gamma_s",
-                "γs, surface lobe width",
-                "°",
-                (0.1, 90.0),
-                GammaS,
-                |w, f| EditValue::Number(w.yarn(f).gamma_s_deg)
-            ),
-            knob!(
-                $family,
-                $prefix,
-                "gamma_v",
-                "γv, volume lobe width",
-                "°",
-                (0.1, 90.0),
-                GammaV,
-                |w, f| EditValue::Number(w.yarn(f).gamma_v_deg)
-            ),
-        ]
-    };
-}
-
-/// A family's colour in sRGB: the yarn's knob, else the draft's (decoded, weighted by face,
-/// [`Weave::colour`]) encoded again.
-fn yarn_colour(weave: &Weave, family: Family) -> [f64; 3] {
-    let yarn: &Yarn = weave.yarn(family);
-    yarn.colour
-        .unwrap_or_else(|| weave.colour(family).map(linear_to_srgb))
-}
-
-const THREAD1: [FieldSpec; 9] = thread_fields!(thread1);
-const THREAD2: [FieldSpec; 9] = thread_fields!(thread2);
-const WARP: [FieldSpec; 13] = knobs!(Warp, "warp");
-const WEFT: [FieldSpec; 13] = knobs!(Weft, "weft");
-
-const FABRIC: [FieldSpec; 4] = [
-    FieldSpec {
-        path: "name",
-        label: "name",
-        unit: "",
-        range: (0.0, 0.0),
-        access: Access::Name,
-    },
-    FieldSpec {
-        path: "options.gaussian_width",
-        label: "γ is σ or √2·σ",
-        unit: "",
-        range: (0.0, 0.0),
-        access: Access::Choice {
-            choices: &["std_dev", "sqrt2_std_dev"],
-            holds: |fabric, c| variant(c) == Some(fabric.options.gaussian_width),
-            set: |fabric, c| {
-                variant(c)
-                    .map(|v| fabric.options.gaussian_width = v)
-                    .is_some()
-            },
-        },
-    },
-    FieldSpec {
-        path: "options.sigma_u_deg",
-        label: "σu, reweighting width",
-        unit: "°",
-        range: (0.1, 180.0),
-        access: Access::Number {
-            get: |fabric| fabric.options.sigma_u_deg,
-            set: |fabric, v| fabric.options.sigma_u_deg = v,
-        },
-    },
-    FieldSpec {
-        path: "options.tangent_sampling",
-        label: "tangent samples",
-        unit: "",
-        range: (0.0, 0.0),
-        access: Access::Choice {
-            choices: &["arc_length", "control_points"],
-            holds: |fabric, c| variant(c) == Some(fabric.options.tangent_sampling),
-            set: |fabric, c| {
-                variant(c)
-                    .map(|v| fabric.options.tangent_sampling = v)
-                    .is_some()
-            },
-        },
-    },
-];
-
 /// Concatenates the groups into one array.
 const fn concat<const N: usize>(groups: [&[FieldSpec]; 5]) -> [FieldSpec; N] {
-    let mut out = [FABRIC[0]; N];
+    let mut out = [fabric::FABRIC[0]; N];
     let (mut g, mut n) = (0, 0);
     while g < groups.len() {
         let mut i = 0;
@@ -735,7 +358,13 @@ const fn concat<const N: usize>(groups: [&[FieldSpec]; 5]) -> [FieldSpec; N] {
     out
 }
 
-const ALL: [FieldSpec; 48] = concat([&FABRIC, &THREAD1, &THREAD2, &WARP, &WEFT]);
+const ALL: [FieldSpec; 48] = concat([
+    &fabric::FABRIC,
+    &fabric::THREAD1,
+    &fabric::THREAD2,
+    &knobs::WARP,
+    &knobs::WEFT,
+]);
 
 /// Every editable field, in the panel's order: the name and options, thread 1, thread 2,
 /// then the warp's and the weft's yarn knobs (shown only for a session opened from a weave).

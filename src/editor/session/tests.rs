@@ -1,5 +1,6 @@
 use super::*;
 use crate::editor::fields::{FIELDS, FieldKind, value_text};
+use crate::formats::draft_source::load_draft;
 use crate::formats::fabric_toml::FabricSet;
 use crate::model::Fabric;
 use std::collections::BTreeMap;
