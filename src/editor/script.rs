@@ -111,8 +111,9 @@ pub enum Action {
         degrees: f64,
     },
     /// `light INDEX ELEVATION AZIMUTH`: the scene's light INDEX (from 0) set to come from
-    /// this elevation above the cloth's plane and azimuth about +y (0 towards +z), in
-    /// degrees.
+    /// this elevation above the horizontal (world +y up) and azimuth about +y (0 towards +z,
+    /// 90 towards +x), in degrees, as the viewer's light control measures them: the
+    /// direction `(cos e·sin a, sin e, cos e·cos a)`.
     Light {
         index: usize,
         elevation_deg: f64,
