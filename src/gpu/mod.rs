@@ -216,6 +216,20 @@ pub trait GpuBrdf {
     fn bind_group(&self) -> &wgpu::BindGroup;
     /// Short description for logs, e.g. "lookup LAYOUT R=31" or "paper N=32".
     fn label(&self) -> String;
+    /// Makes this form shade `fabric` from the next submission on, if it can without a new
+    /// shader: `Ok(true)` when it now shades `fabric` with the same WGSL, bind group layout
+    /// and bind group (pipelines built for it stay valid; the resonant quadrature's form
+    /// rewrites its fabric buffer); `Ok(false)` when the form bakes its fabric into its shader
+    /// or table (paper mode, a table), so the caller builds a new form for `fabric`. An
+    /// invalid fabric is refused with [`GpuError::Invalid`] and the form keeps shading its
+    /// old one. The live editor of `view --edit` calls it on each edit.
+    fn update_fabric(
+        &self,
+        _context: &GpuContext,
+        _fabric: &crate::model::Fabric,
+    ) -> Result<bool, GpuError> {
+        Ok(false)
+    }
 }
 
 /// F(wi, wo) for each pair (local frame, unit vectors) evaluated on the GPU by `brdf`: the

@@ -267,6 +267,36 @@ fn resonant_shader_render_equals_cpu_resonant_shading_of_the_same_pixels() {
 }
 
 #[test]
+fn resonant_form_updated_in_place_renders_what_a_fresh_form_renders() {
+    // The editor's path through the render pass: the renderer keeps its pipeline and the
+    // form's bind group, the form's fabric buffer is rewritten (`GpuBrdf::update_fabric`),
+    // and the next frame is the frame of a renderer made for the new fabric, to the bit.
+    let context = gpu_context();
+    let settings = settings();
+    let nodes = ResonantNodes::DEFAULT;
+    let velvet = FabricSet::builtin().get("velvet").unwrap().clone();
+    let satin = FabricSet::builtin()
+        .get("polyester_satin_charmeuse")
+        .unwrap()
+        .clone();
+    let brdf = GpuResonant::new(&context, &velvet, nodes).unwrap();
+    let headless = Headless::new(&context, &mesh(), &brdf, SIDE, SIDE).unwrap();
+    let first = headless.render(&context, &settings, 1).unwrap().linear;
+    assert!(brdf.update_fabric(&context, &satin).unwrap());
+    let edited = headless.render(&context, &settings, 1).unwrap().linear;
+    let fresh = render(
+        &context,
+        &GpuResonant::new(&context, &satin, nodes).unwrap(),
+        &settings,
+    );
+    let bits = |image: &LinearImage| -> Vec<[u32; 4]> {
+        image.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
+    };
+    assert_ne!(bits(&edited), bits(&first), "the edit shows");
+    assert_eq!(bits(&edited), bits(&fresh));
+}
+
+#[test]
 fn constant_shader_render_equals_cpu_shading_with_f_one_over_pi() {
     // The cost-floor shader does the render pass's whole per-light work (frame, directions,
     // irradiance, horizon test) with F = 1/π: its image must be the CPU's shading of the

@@ -205,3 +205,152 @@ fn node_counts_are_validated() {
     let brdf = GpuResonant::new(&context, &fabric, max).expect("max nodes");
     assert_eq!(brdf.label(), "resonant nodes 16/16/16");
 }
+
+/// A fabric of many control points: thread 1 a wavy curve of the most control points a fabric
+/// may have (`MAX_CONTROL_POINTS`), with flat runs (repeated whole degrees) and a jump; thread
+/// 2 a shorter slope of 40 points. `control_points` sets `tangent_sampling =
+/// "control_points"`, one piece per point (equal neighbours merged), near the most pieces the
+/// shader's block holds.
+fn many_points_fabric(control_points: bool) -> Fabric {
+    use clothbake::model::fabric::{MAX_CONTROL_POINTS, TangentSampling};
+    let mut f = fabric("polyester_satin_charmeuse");
+    f.name = format!("many_points{}", if control_points { "_cp" } else { "" });
+    let n = MAX_CONTROL_POINTS;
+    f.thread1.offsets_deg = (0..n)
+        .map(|k| {
+            let t = k as f64 / (n - 1) as f64;
+            // Flat runs where the rounding to whole degrees repeats a value.
+            (60.0 * (7.0 * std::f64::consts::PI * t).sin() + 10.0 * t).round()
+        })
+        .collect();
+    f.thread1.lengths = (0..n - 1)
+        .map(|k| {
+            if k == n / 2 {
+                0.0
+            } else {
+                1.0 + (k % 3) as f64
+            }
+        })
+        .collect();
+    f.thread2.offsets_deg = (0..40).map(|k| -30.0 + 1.5 * k as f64).collect();
+    f.thread2.lengths = vec![1.0; 39];
+    if control_points {
+        f.options.tangent_sampling = TangentSampling::ControlPoints;
+    }
+    f.validate().expect("many-points fabric is valid");
+    f
+}
+
+/// F of `brdf` on `pairs`, as bits.
+fn shade_bits(context: &GpuContext, brdf: &dyn GpuBrdf, pairs: &[(Vec3, Vec3)]) -> Vec<[u32; 3]> {
+    evaluate_pairs(context, brdf, pairs)
+        .expect("evaluate_pairs")
+        .iter()
+        .map(|f| f.map(f32::to_bits))
+        .collect()
+}
+
+#[test]
+fn a_form_updated_in_place_shades_exactly_what_a_fresh_form_shades() {
+    // The editor's path (`GpuBrdf::update_fabric`): one shader for every fabric at the same
+    // nodes, the fabric in the buffer. A form made for A and updated to B runs the same
+    // pipeline on the same bytes as a form made for B, so F agrees to the bit.
+    let context = gpu_context();
+    let cases = [
+        (fabric("velvet"), fabric("polyester_satin_charmeuse")),
+        (fabric("polyester_satin_charmeuse"), fabric("velvet")),
+        (fabric("linen_plain"), many_points_fabric(false)),
+        (many_points_fabric(false), many_points_fabric(true)),
+        (fabric("velvet"), fabric("silk_shot")),
+    ];
+    let coarse = ResonantNodes {
+        surface: 3,
+        volume: 2,
+        base: 1,
+    };
+    for (c, (a, b)) in cases.iter().enumerate() {
+        let nodes = if c % 2 == 0 {
+            ResonantNodes::DEFAULT
+        } else {
+            coarse
+        };
+        let (mut pairs, _) = f32_validation_pairs(b, 400, 700 + c as u64);
+        pairs.extend(f32_validation_pairs(a, 200, 800 + c as u64).0);
+        let updated = GpuResonant::new(&context, a, nodes).unwrap();
+        let before = shade_bits(&context, &updated, &pairs);
+        let fresh = GpuResonant::new(&context, b, nodes).unwrap();
+        assert_eq!(updated.wgsl(), fresh.wgsl(), "one shader for every fabric");
+        assert!(updated.update_fabric(&context, b).unwrap());
+        let after = shade_bits(&context, &updated, &pairs);
+        let label = format!("{} → {} nodes {nodes}", a.name, b.name);
+        assert_eq!(after, shade_bits(&context, &fresh, &pairs), "{label}");
+        assert_ne!(after, before, "{label}: the update changed nothing");
+        // And back.
+        assert!(updated.update_fabric(&context, a).unwrap());
+        assert_eq!(
+            shade_bits(&context, &updated, &pairs),
+            before,
+            "{label} and back"
+        );
+    }
+}
+
+#[test]
+fn a_form_updated_to_many_control_points_matches_the_cpu() {
+    // The most pieces the block holds, reached by an update, within the bound of the module
+    // doc against the CPU rule (the loop over the pieces visits every slot in use).
+    let context = gpu_context();
+    for control_points in [false, true] {
+        let many = many_points_fabric(control_points);
+        let brdf = GpuResonant::new(&context, &fabric("velvet"), ResonantNodes::DEFAULT).unwrap();
+        assert!(brdf.update_fabric(&context, &many).unwrap());
+        let (pairs, names) = f32_validation_pairs(&many, 500, 950);
+        let patch = Patch::new(&many, Integration::Resonant(ResonantNodes::DEFAULT));
+        let relative = BASE_RELATIVE + LOBE_REACH * THETA_ERROR / sigma_min(&many);
+        let bound = |scale| (relative, FLOOR * scale);
+        let (stats, failures) =
+            compare_gpu_cpu(&context, &brdf, &patch, &pairs, &names, bound, &many.name);
+        assert!(stats.nonzero > stats.count / 2, "{}: most F > 0", many.name);
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+}
+
+#[test]
+fn an_invalid_fabric_is_refused_and_the_old_one_stays() {
+    use clothbake::gpu::GpuError;
+    use clothbake::model::fabric::MAX_CONTROL_POINTS;
+    let context = gpu_context();
+    let velvet = fabric("velvet");
+    let brdf = GpuResonant::new(&context, &velvet, ResonantNodes::DEFAULT).unwrap();
+    let (pairs, _) = f32_validation_pairs(&velvet, 300, 990);
+    let before = shade_bits(&context, &brdf, &pairs);
+    let mut over = velvet.clone();
+    over.thread1.coverage = 0.8; // a1 + a2 > 1
+    let mut nan = velvet.clone();
+    nan.thread2.gamma_s_deg = f64::NAN;
+    let mut too_many = velvet.clone();
+    // More control points than any fabric may have (more pieces than the block holds).
+    too_many.thread1.offsets_deg = (0..=MAX_CONTROL_POINTS)
+        .map(|k| (k % 2) as f64 * 10.0)
+        .collect();
+    too_many.thread1.lengths = vec![1.0; MAX_CONTROL_POINTS];
+    for bad in [&over, &nan, &too_many] {
+        let error = brdf.update_fabric(&context, bad).unwrap_err();
+        assert!(matches!(error, GpuError::Invalid { .. }), "{error}");
+        assert!(GpuResonant::new(&context, bad, ResonantNodes::DEFAULT).is_err());
+    }
+    assert_eq!(shade_bits(&context, &brdf, &pairs), before);
+}
+
+#[test]
+fn forms_that_bake_the_fabric_in_say_so() {
+    // The trait's default: paper mode keeps its fabric (a new form is built per fabric).
+    use clothbake::evaluator::paper::gpu::GpuPaper;
+    let context = gpu_context();
+    let paper = GpuPaper::new(&context, &fabric("velvet"), 8).unwrap();
+    assert!(
+        !paper
+            .update_fabric(&context, &fabric("linen_plain"))
+            .unwrap()
+    );
+}

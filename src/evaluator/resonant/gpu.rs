@@ -4,33 +4,40 @@
 //! same node placement and thresholds as the CPU's `Patch::new(fabric,
 //! Integration::Resonant(nodes))`.
 //!
-//! The WGSL is specialised per fabric and node counts: [`resonant_wgsl`] composes with the
-//! template the generated modules of the thresholds and node counts (from the Rust
-//! constants), the Gauss–Legendre rules for every count 1..=max(surface, volume, base) (the
-//! tail rules and the kink splits pick any of them per pair; computed in f64 by
-//! [`GaussLegendre::new`], rounded to f32), both threads' parameters, and per thread a
-//! function that visits the thread's curve pieces one by one (flat pieces as single nodes,
-//! segments by `cloth_resonant_segment`, which splits its node sets at the pair's kinks as
-//! `ResonantRule::segment` does). Everything is a constant, so group 0 is empty.
+//! The WGSL depends on the node counts alone: [`resonant_wgsl`] composes with the templates
+//! the generated modules of the thresholds and node counts (from the Rust constants), the
+//! Gauss–Legendre rules for every count 1..=max(surface, volume, base) (the tail rules and the
+//! kink splits pick any of them per pair; computed in f64 by [`GaussLegendre::new`], rounded
+//! to f32) and the fabric block's capacity. The fabric is a uniform buffer in group 0
+//! ([`FabricBlock`]): both threads' parameters, σu, coverage, gap and albedos, and per thread
+//! its curve pieces, which `cloth_resonant_means` visits one by one (flat pieces as single
+//! nodes, segments by `cloth_resonant_segment`, which splits its node sets at the pair's kinks
+//! as `ResonantRule::segment` does).
+//!
+//! Why a buffer and not constants: the editor of `view --edit` shades the fabric being edited
+//! with this form, and an edit must show on the next frame. With the fabric in the buffer an
+//! edit is one `queue.write_buffer` ([`GpuBrdf::update_fabric`]); the shader, its pipelines
+//! and the bind group stay. (Until 2026-12-07 the fabric was baked into the WGSL as
+//! constants, one call per curve piece unrolled; the per-pixel cost of reading it from the
+//! buffer instead is in docs/notebook/2026-12-07-resonant-from-a-buffer.md.)
 //!
 //! [`GaussLegendre::new`]: crate::model::resonant::GaussLegendre::new
 
-use super::kernel::{resonant_rules_wgsl, resonant_thread_wgsl};
-use crate::gpu::{GpuBrdf, GpuContext, GpuError};
+use super::kernel::{FabricBlock, fabric_layout_wgsl, resonant_rules_wgsl};
+use crate::gpu::{GpuBrdf, GpuContext, GpuError, brdf_entry};
 use crate::model::Fabric;
 use crate::model::ResonantNodes;
 use crate::shader::{self, Composer, ShaderFile};
-use crate::table::wgsl::{wgsl_f32, wgsl_vec};
-use std::fmt::Write;
+use wgpu::util::DeviceExt;
 
-/// The resonant shader's `cloth_brdf`.
+/// The resonant shader's `cloth_brdf`, the fabric block and the loop over a thread's pieces.
 pub const FILE: ShaderFile = ShaderFile {
     name: "evaluator/resonant",
     path: "src/evaluator/resonant/resonant.wgsl",
     source: include_str!("resonant.wgsl"),
 };
 
-/// The resonant quadrature's kernel, a template over the generated modules
+/// The resonant quadrature's kernel, a template over the generated module of the rules
 /// ([`super::kernel`]).
 pub const QUADRATURE_FILE: ShaderFile = ShaderFile {
     name: "evaluator/resonant_quadrature",
@@ -38,55 +45,32 @@ pub const QUADRATURE_FILE: ShaderFile = ShaderFile {
     source: include_str!("quadrature.wgsl"),
 };
 
-/// The complete WGSL module of [`GpuResonant`]: [`FILE`] (`cloth_brdf`)
-/// and what it requires, the tangent sample and the kernel templates and the generated
-/// modules [`shader::RESONANT_RULES`] (the kernel's constants for `fabric` at `nodes`,
-/// [`super::kernel`]) and [`shader::RESONANT_FABRIC`] (the constants of
-/// `cloth_brdf`: coverage, gap, albedos; and the per-thread functions). `fabric` must be
-/// valid.
-pub fn resonant_wgsl(fabric: &Fabric, nodes: ResonantNodes) -> String {
-    let mut out = String::new();
-    let w = &mut out;
-    let gap = (1.0 - fabric.thread1.coverage - fabric.thread2.coverage).max(0.0);
-    let _ = writeln!(
-        w,
-        "const CLOTH_RESONANT_GAP: f32 = {};\n\
-         const CLOTH_RESONANT_COVERAGE: vec2<f32> = {};",
-        wgsl_f32(gap),
-        wgsl_vec(&[fabric.thread1.coverage, fabric.thread2.coverage])
-    );
-    for (j, thread) in fabric.threads().into_iter().enumerate() {
-        let _ = writeln!(
-            w,
-            "const CLOTH_RESONANT_ALBEDO_{j}: vec3<f32> = {};",
-            wgsl_vec(&thread.albedo_rgb())
-        );
-    }
-    for j in 0..2 {
-        out += &resonant_thread_wgsl(fabric, j, nodes);
-    }
+/// The complete WGSL module of [`GpuResonant`] at `nodes`, the same for every fabric: [`FILE`]
+/// (`cloth_brdf` and the fabric block in group 0) and what it requires, the tangent sample and
+/// the kernel templates and the generated modules [`shader::RESONANT_RULES`] (the kernel's
+/// constants at `nodes`, [`super::kernel`]) and [`shader::RESONANT_FABRIC`] (the block's
+/// capacity).
+pub fn resonant_wgsl(nodes: ResonantNodes) -> String {
     Composer::new()
         .title(format!(
-            "Generated by src/evaluator/resonant/gpu.rs for fabric '{}', resonant nodes {nodes} \
-             (surface/volume/base).",
-            fabric.name
+            "Generated by src/evaluator/resonant/gpu.rs for resonant nodes {nodes} \
+             (surface/volume/base); the fabric is read from the uniform block in group 0."
         ))
-        .module(
-            shader::RESONANT_RULES,
-            resonant_rules_wgsl(&fabric.options, nodes),
-        )
-        .module(shader::RESONANT_FABRIC, out)
+        .module(shader::RESONANT_RULES, resonant_rules_wgsl(nodes))
+        .module(shader::RESONANT_FABRIC, fabric_layout_wgsl())
         .unit_file(&FILE)
         .unit_file(&QUADRATURE_FILE)
         .compose(&[FILE.name])
         .expect("the resonant shader composes (validated in the tests)")
 }
 
-/// The resonant quadrature evaluated in the shader, a [`GpuBrdf`] with an empty group 0 (the
-/// fabric and the rules are constants of its WGSL).
+/// The resonant quadrature evaluated in the shader, a [`GpuBrdf`]. Bindings (group 0): 0 the
+/// uniform block of the fabric ([`FabricBlock`], [`FabricBlock::SIZE`] bytes for any fabric),
+/// which [`GpuBrdf::update_fabric`] rewrites in place.
 pub struct GpuResonant {
     nodes: ResonantNodes,
     wgsl: String,
+    block: wgpu::Buffer,
     bind_group_layout: wgpu::BindGroupLayout,
     bind_group: wgpu::BindGroup,
 }
@@ -104,20 +88,52 @@ impl GpuResonant {
             name: "resonant nodes".into(),
             message: e.to_string(),
         })?;
-        fabric.validate().map_err(|e| GpuError::Invalid {
-            name: "fabric".into(),
-            message: e.to_string(),
-        })?;
-        let wgsl = resonant_wgsl(fabric, nodes);
+        let block = Self::block(fabric)?;
+        let wgsl = resonant_wgsl(nodes);
         context.checked(|| {
-            let (bind_group_layout, bind_group) = crate::gpu::empty_bind_group(context, "resonant");
+            let device = &context.device;
+            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("resonant fabric"),
+                contents: &block.bytes(),
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            });
+            let bind_group_layout =
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("resonant"),
+                    entries: &[brdf_entry(
+                        0,
+                        wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: false,
+                            min_binding_size: wgpu::BufferSize::new(FabricBlock::SIZE as u64),
+                        },
+                    )],
+                });
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("resonant"),
+                layout: &bind_group_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffer.as_entire_binding(),
+                }],
+            });
             Self {
                 nodes,
                 wgsl,
+                block: buffer,
                 bind_group_layout,
                 bind_group,
             }
         })
+    }
+
+    /// The fabric block of `fabric`, after [`Fabric::validate`].
+    fn block(fabric: &Fabric) -> Result<FabricBlock, GpuError> {
+        fabric.validate().map_err(|e| GpuError::Invalid {
+            name: "fabric".into(),
+            message: e.to_string(),
+        })?;
+        FabricBlock::new(fabric)
     }
 
     /// The node counts per segment.
@@ -142,32 +158,112 @@ impl GpuBrdf for GpuResonant {
     fn label(&self) -> String {
         format!("resonant nodes {}", self.nodes)
     }
+
+    /// Writes `fabric`'s block over the old one (`queue.write_buffer`, applied before the next
+    /// submission): the same shader, pipelines and bind group shade `fabric` from then on.
+    /// An invalid fabric is refused with [`GpuError::Invalid`] and the old fabric stays.
+    fn update_fabric(&self, context: &GpuContext, fabric: &Fabric) -> Result<bool, GpuError> {
+        let block = Self::block(fabric)?;
+        context.checked(|| context.queue.write_buffer(&self.block, 0, &block.bytes()))?;
+        Ok(true)
+    }
 }
 
 #[cfg(test)]
 mod tests {
+    use super::super::kernel::{MAX_PIECES, PIECE_POINT, PIECE_SEGMENT};
     use super::*;
+    use crate::evaluator::{EVALUATORS, EvaluationContext};
     use crate::formats::fabric_toml::FabricSet;
     use crate::model::curve::{Integration, curve_pieces};
+    use crate::model::fabric::{MAX_CONTROL_POINTS, TangentSampling};
 
     #[test]
-    fn every_builtin_fabric_generates_one_call_per_piece() {
+    fn every_builtin_fabric_puts_each_piece_in_its_block() {
         for fabric in FabricSet::builtin().fabrics() {
-            let source = resonant_wgsl(fabric, ResonantNodes::DEFAULT);
+            let block = FabricBlock::new(fabric).unwrap();
+            assert_eq!(block.bytes().len(), FabricBlock::SIZE);
             for (j, thread) in fabric.threads().into_iter().enumerate() {
                 let pieces = curve_pieces(
                     thread,
                     &fabric.options,
                     Integration::Resonant(ResonantNodes::DEFAULT),
                 );
-                let body = source
-                    .split(&format!("fn cloth_resonant_means_{j}("))
-                    .nth(1)
-                    .unwrap();
-                let body = body.split("return sums;\n}").next().unwrap();
-                assert_eq!(body.matches("sums += ").count(), pieces.len());
+                let head = block.head.threads[j];
+                assert_eq!(head.pieces[0] as usize, pieces.len(), "{}", fabric.name);
+                let slots = &block.pieces[j * MAX_PIECES..(j + 1) * MAX_PIECES];
+                for (slot, piece) in slots.iter().zip(&pieces) {
+                    assert_eq!(slot[0], piece.start as f32);
+                    assert_eq!(slot[1], piece.end as f32);
+                    let kind = if piece.start == piece.end {
+                        PIECE_POINT
+                    } else {
+                        PIECE_SEGMENT
+                    };
+                    assert_eq!(slot[3], kind);
+                }
+                assert!(slots[pieces.len()..].iter().all(|s| *s == [0.0; 4]));
+                assert_eq!(head.albedo[3], thread.coverage as f32);
             }
-            assert!(source.contains("fn cloth_brdf("));
         }
+    }
+
+    /// A thread of `points` control points zigzagging over [−80°, 80°], every segment sloped.
+    fn zigzag(fabric: &mut Fabric, points: usize) {
+        fabric.thread1.offsets_deg = (0..points)
+            .map(|k| if k % 2 == 0 { -80.0 } else { 80.0 } + k as f64 * 1e-3)
+            .collect();
+        fabric.thread1.lengths = vec![1.0; points - 1];
+    }
+
+    #[test]
+    fn the_most_control_points_fit_and_more_are_refused() {
+        let builtin = FabricSet::builtin();
+        let mut fabric = builtin.get("linen_plain").unwrap().clone();
+        zigzag(&mut fabric, MAX_CONTROL_POINTS);
+        for sampling in [TangentSampling::ArcLength, TangentSampling::ControlPoints] {
+            fabric.options.tangent_sampling = sampling;
+            fabric.validate().unwrap();
+            let block = FabricBlock::new(&fabric).unwrap();
+            let count = block.head.threads[0].pieces[0] as usize;
+            assert!(
+                (MAX_CONTROL_POINTS - 1..=MAX_PIECES).contains(&count),
+                "{count}"
+            );
+        }
+        // No valid fabric has more pieces than slots; a curve past the control-point bound
+        // (which `Fabric::validate` refuses first) shows the block's own check.
+        zigzag(&mut fabric, MAX_CONTROL_POINTS + 1);
+        assert!(fabric.validate().is_err());
+        let error = FabricBlock::new(&fabric).unwrap_err();
+        assert!(matches!(error, GpuError::Invalid { .. }), "{error}");
+        assert!(error.to_string().contains("at most 256"), "{error}");
+    }
+
+    #[test]
+    fn the_wgsl_is_the_same_for_every_fabric_at_the_same_nodes() {
+        let unit = EVALUATORS.iter().find(|u| u.name == "resonant").unwrap();
+        let context = EvaluationContext {
+            tables: std::path::PathBuf::from("no tables here"),
+        };
+        for spelling in [None, Some("3/2/1")] {
+            let evaluator = (unit.parse)(spelling).unwrap();
+            let sources: Vec<String> = FabricSet::builtin()
+                .fabrics()
+                .iter()
+                .map(|f| evaluator.prepare(f, &context).unwrap().gpu_wgsl().unwrap())
+                .collect();
+            assert!(sources.windows(2).all(|w| w[0] == w[1]), "{spelling:?}");
+            assert!(!sources[0].contains("fn cloth_resonant_means_"));
+            assert!(sources[0].contains("fn cloth_brdf("));
+        }
+        assert_ne!(
+            resonant_wgsl(ResonantNodes::DEFAULT),
+            resonant_wgsl(ResonantNodes {
+                surface: 3,
+                volume: 2,
+                base: 1
+            })
+        );
     }
 }

@@ -1,7 +1,8 @@
 //! `resonant[:S/V/B]`: the resonant quadrature (docs/model.md#resonant-quadrature) with S
 //! Gauss–Legendre nodes per segment on the surface lobe, V on the volume lobe and B for
 //! ⟨P⟩ and the kd term; on the CPU and in the shader ([`gpu::GpuResonant`], the WGSL files
-//! in this folder).
+//! in this folder, one shader per node counts with the fabric in a buffer that an edit
+//! rewrites in place).
 
 #[cfg(feature = "runtime")]
 pub mod gpu;
@@ -94,8 +95,9 @@ impl Evaluator for Resonant {
 
 impl super::ModelGpuForm for Resonant {
     #[cfg(feature = "runtime")]
-    fn wgsl(&self, fabric: &Fabric) -> String {
-        gpu::resonant_wgsl(fabric, self.nodes)
+    fn wgsl(&self, _fabric: &Fabric) -> String {
+        // The fabric is in the form's buffer, not its WGSL.
+        gpu::resonant_wgsl(self.nodes)
     }
 
     #[cfg(feature = "runtime")]

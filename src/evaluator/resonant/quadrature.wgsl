@@ -4,13 +4,13 @@
 // `ResonantRule::means`/`segment` (same node placement, same thresholds) and
 // `ThreadModel::sample`/`pair_frame` of src/model/patch.rs.
 //
-// This file is a template: kernel.rs beside it generates, per fabric and node
-// counts, the constants it names (`CLOTH_RESONANT_*`: thresholds from the Rust constants and
-// the Gauss–Legendre rules computed in f64 and rounded, the generated module `resonant_rules`
-// that this file requires) and the functions `cloth_resonant_means_0/1` (with the threads'
-// parameters), which call `cloth_resonant_point` and `cloth_resonant_segment` once per curve
-// piece of the thread (the fabric's curve unrolled). The resonant quadrature's shader uses it
-// (gpu.rs, with resonant.wgsl).
+// This file is a template: kernel.rs beside it generates, per node counts, the constants it
+// names (`CLOTH_RESONANT_*`: thresholds from the Rust constants and the Gauss–Legendre rules
+// computed in f64 and rounded, the generated module `resonant_rules` that this file requires).
+// Nothing here depends on a fabric: a thread's parameters come in as a `ClothResonantThread`
+// and its curve pieces as arguments of `cloth_resonant_point` and `cloth_resonant_segment`,
+// which resonant.wgsl reads from the fabric block in group 0 and calls once per piece of the
+// thread (gpu.rs; the block is a buffer so that the editor's edits need no new shader).
 //
 // Where f32 would lose what f64 keeps:
 // - Φ in the lower tail comes from erfc of a positive argument (relative accuracy ~1e-7
@@ -24,7 +24,7 @@
 //
 // requires: model/tangent_sample, resonant_rules
 
-// One thread family (a literal in each generated `cloth_resonant_means_j`).
+// One thread family (built by resonant.wgsl's `cloth_resonant_means` from the fabric block).
 struct ClothResonantThread {
     // Base tangent t0 and rotation axis b.
     t0: vec3<f32>,
@@ -33,7 +33,8 @@ struct ClothResonantThread {
     sigma: vec2<f32>,
     // Surface −1/(2σs²), 1/(σs√(2π)); volume −1/(2σv²), 1/(σv√(2π)).
     lobes: vec4<f32>,
-    // η, kd, 1 if η == 1 exactly (no interface: Fr = 0) else 0, 0.
+    // η, kd, 1 if η == 1 exactly (no interface: Fr = 0) else 0, and the fabric's
+    // −1/(2σu²) of the reweighting Gaussian u.
     material: vec4<f32>,
 }
 
@@ -110,7 +111,7 @@ fn cloth_resonant_quantile(p_in: f32) -> f32 {
 // `ThreadModel::pair_frame` plus α* = −atan2(h·t0, h·z), h = wi + wo.
 fn cloth_resonant_pair(thread: ClothResonantThread, wi: vec3<f32>, wo: vec3<f32>) -> ClothResonantPair {
     var p: ClothResonantPair;
-    p.s = cloth_sample_pair(wi, wo, thread.t0, thread.b, CLOTH_RESONANT_K_U);
+    p.s = cloth_sample_pair(wi, wo, thread.t0, thread.b, thread.material.w);
     p.valid = 0u;
     if p.s.par_i <= CLOTH_RESONANT_THRESHOLD || p.s.par_o <= CLOTH_RESONANT_THRESHOLD {
         return p;
@@ -191,7 +192,7 @@ fn cloth_resonant_sample(thread: ClothResonantThread, p: ClothResonantPair, alph
     material.eta = thread.material.x;
     material.kd = thread.material.y;
     material.no_interface = thread.material.z;
-    material.k_u = CLOTH_RESONANT_K_U;
+    material.k_u = thread.material.w;
     material.threshold = CLOTH_RESONANT_THRESHOLD;
     return cloth_sample_terms(p.s, material, cos(alpha), sin(alpha));
 }
