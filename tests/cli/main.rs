@@ -1,5 +1,6 @@
 //! The `clothbake` binary as users and scripts run it: `fabrics`, `eval`, `sample`,
-//! `albedo`, `bake`, `check`, `wgsl`, `weave`, `fit`.
+//! `albedo`, `bake`, `check`, `wgsl`, `weave`, `fit`; the editor's plots against `eval` and
+//! `albedo`.
 //!
 //! Builds without the `runtime` feature: scripts/test.sh runs this binary a second time with
 //! `--no-default-features`, against the `clothbake` binary without `render`, `view` and
@@ -15,4 +16,5 @@ mod common;
 mod bake;
 mod eval;
 mod fit;
+mod plots;
 mod weave;
