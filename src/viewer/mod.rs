@@ -22,6 +22,7 @@ mod shading;
 mod surface;
 mod timer;
 
+pub use app::{EDIT_WINDOW_SIZE, EditSetup, EditTimings};
 pub use controls::KEY_HELP;
 
 use crate::evaluator::Evaluator;

@@ -16,6 +16,7 @@ mod chi2;
 #[path = "../common/mod.rs"]
 mod common;
 
+mod editor;
 mod glsl_vulkan;
 mod lookup;
 mod paper;

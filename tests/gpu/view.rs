@@ -16,7 +16,7 @@ const HANG_GUARD: Duration = Duration::from_secs(300);
 
 /// The clothbake binary with `args`, without any Wayland display (so that winit takes the
 /// X11 display it is given, or none) and with the Vulkan loader's runtime directory set.
-fn clothbake_command(program: &str, args: &[&str]) -> Command {
+pub(crate) fn clothbake_command(program: &str, args: &[&str]) -> Command {
     let mut command = Command::new(program);
     command
         .args(args)
@@ -33,7 +33,7 @@ fn clothbake_command(program: &str, args: &[&str]) -> Command {
 }
 
 /// Runs `command` to completion, killing it after [`HANG_GUARD`].
-fn run(mut command: Command) -> Output {
+pub(crate) fn run(mut command: Command) -> Output {
     let mut child = command.spawn().unwrap_or_else(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
             panic!(

@@ -16,6 +16,7 @@ use std::time::Instant;
 use winit::event_loop::ActiveEventLoop;
 
 /// What `view --edit` was started with.
+#[derive(Clone, Debug)]
 pub struct EditSetup {
     pub session: EditSession,
     /// The model evaluator edits are shaded by (its GPU form updated in place).
