@@ -227,7 +227,7 @@ pub fn run(
                 resolution,
                 bake_rows(fabric, layout, resolution),
             );
-            bake(fabric, layout, resolution, &*on_row)
+            bake(fabric, layout, resolution, &on_row)
         };
         let mut tried = Vec::new();
         let (table, error) = match job.resolution {
