@@ -7,6 +7,7 @@
 
 pub mod job;
 pub mod manifest;
+pub mod taps;
 
 use crate::model::Fabric;
 use crate::table::{Layout, Plane, PlaneSpec, Table};

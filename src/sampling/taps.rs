@@ -55,6 +55,7 @@
 //! do not depend on the thread count.
 
 pub mod moments;
+pub mod stored;
 
 use super::row_z;
 use super::{AZIMUTH_NODES, ELEVATION_NODES, Sampler, direction, grid_elevation, grid_nodes};

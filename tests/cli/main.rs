@@ -15,4 +15,5 @@ mod common;
 mod bake;
 mod eval;
 mod fit;
+mod taps;
 mod weave;
