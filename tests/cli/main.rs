@@ -12,6 +12,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod background;
 mod bake;
 mod eval;
 mod fit;
