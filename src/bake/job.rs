@@ -3,13 +3,18 @@
 //! the manifest shows are up to date, bake, write atomically, record in the manifest.
 
 use crate::bake::manifest::{Entry, Manifest};
+use crate::bake::taps::{TapsOrigin, build_table_taps, table_taps};
 use crate::bake::{BakeError, bake, bake_rows};
 use crate::formats::fabric_toml::{FabricFileError, FabricSet};
 use crate::formats::table_exr::{
-    TableFileError, expected_hash, fabric_table_file, read_table, write_table,
+    TableFileError, expected_hash, fabric_table_file, read_table, table_bytes,
+    write_file_atomically,
 };
+use crate::formats::taps_file::{TableDigest, TapsFileError, taps_path, write_taps};
+use crate::lighting::EnvironmentSource;
 use crate::measure::accuracy::{TableError, measure};
 use crate::model::Fabric;
+use crate::sampling::taps::{SampleTaps, TAP_NODES};
 use crate::scene::Scene;
 use crate::table::{Layout, Table};
 use std::path::{Path, PathBuf};
@@ -40,6 +45,9 @@ pub struct BakeJob {
     pub out: PathBuf,
     /// Bake even when the manifest shows the table is up to date.
     pub force: bool,
+    /// Store each table's sample taps for this many environment samples per pixel beside
+    /// it (`NAME.taps`), building them where they are missing or stale; `None`: no taps.
+    pub environment_samples: Option<u32>,
 }
 
 /// What a user asked to bake (the `bake` command's options), before [`BakeRequest::resolve`]
@@ -59,6 +67,11 @@ pub struct BakeRequest {
     pub max_error: Option<f64>,
     pub out: PathBuf,
     pub force: bool,
+    /// Environment samples per pixel of the taps stored with each table (the option's,
+    /// else the scene's, else the built-in scene's).
+    pub environment_samples: Option<u32>,
+    /// Store no sample taps.
+    pub no_taps: bool,
 }
 
 impl BakeRequest {
@@ -68,7 +81,10 @@ impl BakeRequest {
     /// - layout: the option's, else the scene's, else [`Layout::DEFAULT`];
     /// - resolution: a fixed `resolution` wins; else the smallest meeting `max_error` (the
     ///   option's, else the scene budget's); else the largest within the scene's bytes per
-    ///   fabric; else the layout's default.
+    ///   fabric; else the layout's default;
+    /// - sample taps: none with `no_taps`; else for the option's environment samples, else
+    ///   the scene's (none when the scene has no environment light), else the built-in
+    ///   scene's.
     pub fn resolve(self) -> Result<BakeJob, BakeJobError> {
         let scene = self.scene.as_ref();
         let fabric_file = self
@@ -92,12 +108,20 @@ impl BakeRequest {
             (None, None, Some(bytes)) => ResolutionChoice::MaxBytes(bytes),
             (None, None, None) => ResolutionChoice::Fixed(layout.default_resolution()),
         };
+        let environment_samples = match (self.no_taps, self.environment_samples, scene) {
+            (true, _, _) => None,
+            (false, Some(samples), _) => Some(samples),
+            (false, None, Some(scene)) => (scene.environment.source != EnvironmentSource::None)
+                .then_some(scene.environment.samples),
+            (false, None, None) => Some(Scene::builtin().environment.samples),
+        };
         Ok(BakeJob {
             fabrics,
             layout,
             resolution,
             out: self.out,
             force: self.force,
+            environment_samples,
         })
     }
 }
@@ -108,13 +132,26 @@ pub enum Outcome {
     UpToDate {
         path: PathBuf,
         entry: Entry,
+        taps: Option<TapsOutcome>,
     },
     Baked {
         path: PathBuf,
         entry: Entry,
         bytes: usize,
         tried: Vec<(u32, TableError)>,
+        taps: Option<TapsOutcome>,
     },
+}
+
+/// What happened to one table's sample taps.
+#[derive(Clone, Debug)]
+pub struct TapsOutcome {
+    /// Environment samples per pixel they serve.
+    pub samples: u32,
+    /// Found up to date, or built (and why).
+    pub origin: TapsOrigin,
+    /// Seconds spent reading or building them.
+    pub seconds: f64,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -125,6 +162,10 @@ pub enum BakeJobError {
     File(#[from] TableFileError),
     #[error(transparent)]
     Fabrics(#[from] FabricFileError),
+    #[error(transparent)]
+    Taps(#[from] TapsFileError),
+    #[error("the sample taps of {table} could not be stored: {message}", table = .table.display())]
+    TapsNotStored { table: PathBuf, message: String },
     #[error("--max-error must be a positive number, got {0}")]
     BadMaxError(f64),
     #[error("cannot write to {path}: {source}")]
@@ -175,6 +216,55 @@ fn up_to_date(
         .then(|| entry.clone())
 }
 
+/// The taps beside the up-to-date table at `path` for `samples` per pixel: read, or built
+/// and stored where missing or stale ([`table_taps`]); an error where they cannot be stored.
+fn stored_taps(path: &Path, samples: u32) -> Result<TapsOutcome, BakeJobError> {
+    let started = Instant::now();
+    let (_, origin) = table_taps(path, samples)?;
+    if let TapsOrigin::Built {
+        stored: Err(message),
+        ..
+    } = &origin
+    {
+        return Err(BakeJobError::TapsNotStored {
+            table: path.to_path_buf(),
+            message: message.clone(),
+        });
+    }
+    Ok(TapsOutcome {
+        samples,
+        origin,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// Stores one baked table in the directory `out` as `bake` does: its file's bytes `exr` as
+/// `NAME.exr` (`name` the fabric's), then its sample `taps` (if any) as `NAME.taps` naming
+/// those bytes, then its manifest `entry` (saved at once); each file atomically. Returns the
+/// table's path.
+pub fn store_table(
+    out: &Path,
+    manifest: &mut Manifest,
+    name: &str,
+    exr: &[u8],
+    entry: Entry,
+    taps: Option<&SampleTaps>,
+) -> Result<PathBuf, BakeJobError> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| BakeJobError::Io { path, source }
+    };
+    std::fs::create_dir_all(out).map_err(io(out))?;
+    let path = out.join(fabric_table_file(name));
+    write_file_atomically(&path, exr).map_err(io(&path))?;
+    if let Some(taps) = taps {
+        write_taps(&taps_path(&path), &TableDigest::of(exr), taps)?;
+    }
+    manifest.tables.insert(fabric_table_file(name), entry);
+    manifest.save(out).map_err(io(out))?;
+    Ok(path)
+}
+
 /// Makes the per-row callback of one bake from (fabric name, resolution, rows).
 pub type ProgressFactory = dyn Fn(&str, u32, u64) -> Box<dyn Fn() + Sync>;
 
@@ -214,10 +304,17 @@ pub fn run(
     for fabric in &job.fabrics {
         let path = job.out.join(fabric_table_file(&fabric.name));
         remove_stale_temporaries(&job.out, &fabric_table_file(&fabric.name));
+        if let Some(name) = taps_path(&path).file_name() {
+            remove_stale_temporaries(&job.out, &name.to_string_lossy());
+        }
         if !job.force
             && let Some(entry) = up_to_date(&manifest, &path, fabric, layout, job.resolution)
         {
-            on_outcome(fabric, &Outcome::UpToDate { path, entry });
+            let taps = job
+                .environment_samples
+                .map(|samples| stored_taps(&path, samples))
+                .transpose()?;
+            on_outcome(fabric, &Outcome::UpToDate { path, entry, taps });
             continue;
         }
         let started = Instant::now();
@@ -227,7 +324,7 @@ pub fn run(
                 resolution,
                 bake_rows(fabric, layout, resolution),
             );
-            bake(fabric, layout, resolution, &*on_row)
+            bake(fabric, layout, resolution, &on_row)
         };
         let mut tried = Vec::new();
         let (table, error) = match job.resolution {
@@ -267,29 +364,55 @@ pub fn run(
                 })?
             }
         };
-        let hash = write_table(&path, &table)?;
+        let (exr, hash) = table_bytes(&table, &path)?;
+        let bake_seconds = started.elapsed().as_secs_f64();
+        let taps = match job.environment_samples {
+            Some(samples) => {
+                let started = Instant::now();
+                let label = format!("{} sample taps", fabric.name);
+                let on_node = progress(&label, samples, TAP_NODES as u64);
+                let taps = build_table_taps(&table, samples, &on_node).ok_or_else(|| {
+                    BakeError::Cancelled {
+                        fabric: fabric.name.clone(),
+                    }
+                })?;
+                Some((taps, started.elapsed().as_secs_f64()))
+            }
+            None => None,
+        };
         let entry = Entry {
             hash,
             layout: layout.name().to_string(),
             resolution: table.resolution,
-            bake_seconds: started.elapsed().as_secs_f64(),
+            bake_seconds,
             threads: rayon::current_num_threads(),
             error: error.map(|e| (e.uniform.relative_rms, e.highlight.relative_rms)),
         };
-        manifest
-            .tables
-            .insert(fabric_table_file(&fabric.name), entry.clone());
-        manifest.save(&job.out).map_err(|source| BakeJobError::Io {
-            path: job.out.clone(),
-            source,
-        })?;
+        let stored = store_table(
+            &job.out,
+            &mut manifest,
+            &fabric.name,
+            &exr,
+            entry.clone(),
+            taps.as_ref().map(|(taps, _)| taps),
+        )?;
+        let taps = taps.map(|(taps, seconds)| TapsOutcome {
+            samples: taps.samples(),
+            origin: TapsOrigin::Built {
+                path: taps_path(&path),
+                reason: Some("the table was baked".into()),
+                stored: Ok(()),
+            },
+            seconds,
+        });
         on_outcome(
             fabric,
             &Outcome::Baked {
-                path,
+                path: stored,
                 entry,
                 bytes: table.byte_size(),
                 tried,
+                taps,
             },
         );
     }

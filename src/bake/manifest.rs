@@ -55,11 +55,7 @@ impl Manifest {
     pub fn save(&self, directory: &Path) -> std::io::Result<()> {
         let bytes = bincode::serde::encode_to_vec(self, bincode::config::standard())
             .map_err(std::io::Error::other)?;
-        let path = path_in(directory);
-        let temporary = directory.join(format!(".{FILE_NAME}.{}.tmp", std::process::id()));
-        std::fs::write(&temporary, bytes)?;
-        std::fs::File::open(&temporary)?.sync_all()?;
-        std::fs::rename(&temporary, path)
+        crate::formats::table_exr::write_file_atomically(&path_in(directory), &bytes)
     }
 }
 

@@ -7,10 +7,13 @@
 
 pub mod job;
 pub mod manifest;
+pub mod taps;
 
 use crate::model::Fabric;
 use crate::table::{Layout, Plane, PlaneSpec, Table};
 use half::f16;
+
+pub use crate::table::progress::BakeProgress;
 
 /// Why a bake failed.
 #[derive(Debug, thiserror::Error)]
@@ -31,11 +34,13 @@ pub enum BakeError {
         y: usize,
         value: f64,
     },
+    #[error("the bake of fabric '{fabric}' was cancelled")]
+    Cancelled { fabric: String },
     #[error("internal error: {0}")]
     Internal(String),
 }
 
-/// Rows of work a bake reports through `on_row`.
+/// Rows of work a bake reports through [`BakeProgress::row_done`].
 pub fn bake_rows(fabric: &Fabric, layout: Layout, resolution: u32) -> u64 {
     layout.unit().bake_rows(fabric, resolution)
 }
@@ -60,13 +65,16 @@ fn quantize(fabric: &Fabric, spec: PlaneSpec, values: &[f64]) -> Result<Plane, B
     Ok(Plane { spec, data })
 }
 
-/// Bakes `fabric` into a table of `layout` at `resolution`. `on_row` is called once per
-/// finished row of work (from worker threads), for progress reporting.
+/// Bakes `fabric` into a table of `layout` at `resolution`. `progress` hears of each
+/// finished row of work (from worker threads); a closure `Fn() + Sync` is one. Once
+/// `progress.cancelled()` is true the rows not yet started are skipped and the bake returns
+/// [`BakeError::Cancelled`]; a bake that is not cancelled gives the same table as one with
+/// no progress reporting.
 pub fn bake(
     fabric: &Fabric,
     layout: Layout,
     resolution: u32,
-    on_row: &(dyn Fn() + Sync),
+    progress: &dyn BakeProgress,
 ) -> Result<Table, BakeError> {
     if !(2..=layout.max_resolution()).contains(&resolution) {
         return Err(BakeError::Resolution {
@@ -76,7 +84,12 @@ pub fn bake(
         });
     }
     let specs = layout.plane_specs(fabric, resolution);
-    let values = layout.unit().bake(fabric, resolution, on_row);
+    let values = layout.unit().bake(fabric, resolution, progress);
+    if progress.cancelled() {
+        return Err(BakeError::Cancelled {
+            fabric: fabric.name.clone(),
+        });
+    }
     if values.len() != specs.len() {
         return Err(BakeError::Internal(format!(
             "layout {layout} baked {} planes, its specs list {}",

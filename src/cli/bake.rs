@@ -3,9 +3,9 @@
 
 use super::CommandResult;
 use super::options::parse_layout;
-use clothbake::bake::job::{self, BakeRequest, Outcome};
+use clothbake::bake::job::{self, BakeRequest, Outcome, TapsOutcome};
 use clothbake::model::Fabric;
-use clothbake::scene::Scene;
+use clothbake::scene::{MAX_ENVIRONMENT_SAMPLES, Scene};
 use clothbake::table::Layout;
 use std::path::PathBuf;
 
@@ -39,6 +39,14 @@ pub struct Args {
     /// Bake even tables the manifest shows are up to date.
     #[arg(long)]
     force: bool,
+    /// Environment samples per pixel of the sample taps stored beside each table
+    /// (NAME.taps), which `render` and `view` read instead of building them (default: the
+    /// scene's, else the built-in scene's, 96).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_ENVIRONMENT_SAMPLES as i64), conflicts_with = "no_taps")]
+    env_samples: Option<u32>,
+    /// Store no sample taps beside the tables (`render` and `view` then build and store them).
+    #[arg(long)]
+    no_taps: bool,
 }
 
 pub fn run(args: Args) -> CommandResult {
@@ -52,6 +60,8 @@ pub fn run(args: Args) -> CommandResult {
         max_error: args.max_error,
         out: args.out,
         force: args.force,
+        environment_samples: args.env_samples,
+        no_taps: args.no_taps,
     }
     .resolve()?;
     let pool = rayon::ThreadPoolBuilder::new()
@@ -70,17 +80,21 @@ pub fn run(args: Args) -> CommandResult {
 /// One fabric's lines: up to date, or baked (with the resolutions an error budget tried).
 fn print_outcome(fabric: &Fabric, layout: Layout, outcome: &Outcome) {
     match outcome {
-        Outcome::UpToDate { path, entry } => println!(
-            "{}: up to date ({} at resolution {}), not baked again",
-            path.display(),
-            entry.layout,
-            entry.resolution
-        ),
+        Outcome::UpToDate { path, entry, taps } => {
+            println!(
+                "{}: up to date ({} at resolution {}), not baked again",
+                path.display(),
+                entry.layout,
+                entry.resolution
+            );
+            print_taps(&fabric.name, taps.as_ref());
+        }
         Outcome::Baked {
             path,
             entry,
             bytes,
             tried,
+            taps,
         } => {
             for (r, e) in tried {
                 println!(
@@ -104,7 +118,24 @@ fn print_outcome(fabric: &Fabric, layout: Layout, outcome: &Outcome) {
                 entry.bake_seconds,
                 entry.threads
             );
+            print_taps(&fabric.name, taps.as_ref());
         }
+    }
+}
+
+/// The line of a table's sample taps: up to date, or built and stored.
+fn print_taps(fabric: &str, taps: Option<&TapsOutcome>) {
+    let Some(taps) = taps else { return };
+    if taps.origin.loaded() {
+        println!(
+            "{fabric}: sample taps for {} environment samples up to date ({})",
+            taps.samples, taps.origin
+        );
+    } else {
+        println!(
+            "{fabric}: sample taps for {} environment samples {} ({:.1} s)",
+            taps.samples, taps.origin, taps.seconds
+        );
     }
 }
 

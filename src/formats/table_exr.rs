@@ -179,10 +179,20 @@ pub fn fabric_table_file(fabric_name: &str) -> String {
 
 /// Writes `table` to `path` atomically; returns its provenance hash.
 pub fn write_table(path: &Path, table: &Table) -> std::result::Result<String, TableFileError> {
-    let io = |source| TableFileError::Io {
+    let (bytes, hash) = table_bytes(table, path)?;
+    write_file_atomically(path, &bytes).map_err(|source| TableFileError::Io {
         path: path.to_path_buf(),
         source,
-    };
+    })?;
+    Ok(hash)
+}
+
+/// The bytes of `table`'s file, exactly as [`write_table`] writes them, and its provenance
+/// hash; `path` names the file in errors.
+pub fn table_bytes(
+    table: &Table,
+    path: &Path,
+) -> std::result::Result<(Vec<u8>, String), TableFileError> {
     let provenance = Provenance {
         texels: texel_checksum(table.planes()),
         ..Provenance::new(&table.fabric, table.layout, table.resolution)
@@ -229,37 +239,40 @@ pub fn write_table(path: &Path, table: &Table) -> std::result::Result<String, Ta
         ImageAttributes::new(IntegerBounds::from_dimensions((1, 1))),
         layers,
     );
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image
+        .write()
+        .to_buffered(&mut bytes)
+        .map_err(|source| TableFileError::Exr {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    Ok((bytes.into_inner(), provenance.hash))
+}
 
+/// Writes `bytes` to `path` atomically: a temporary file beside it (`.NAME.PID.tmp`),
+/// synced, then renamed over it, so that a reader never sees part of a file and an error
+/// leaves the previous file as it was.
+pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let directory = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    let file_name = path.file_name().ok_or_else(|| TableFileError::Invalid {
-        path: path.to_path_buf(),
-        message: "is not a file path".into(),
+    let file_name = path.file_name().ok_or_else(|| {
+        std::io::Error::new(std::io::ErrorKind::InvalidInput, "the path names no file")
     })?;
     let temporary = directory.join(format!(
         ".{}.{}.tmp",
         file_name.to_string_lossy(),
         std::process::id()
     ));
-    let result = image
-        .write()
-        .to_file(&temporary)
-        .map_err(|source| TableFileError::Exr {
-            path: temporary.clone(),
-            source,
-        })
-        .and_then(|()| {
-            std::fs::File::open(&temporary)
-                .and_then(|f| f.sync_all())
-                .map_err(io)
-        })
-        .and_then(|()| std::fs::rename(&temporary, path).map_err(io));
+    let result = std::fs::write(&temporary, bytes)
+        .and_then(|()| std::fs::File::open(&temporary)?.sync_all())
+        .and_then(|()| std::fs::rename(&temporary, path));
     if result.is_err() {
         let _ = std::fs::remove_file(&temporary);
     }
-    result.map(|()| provenance.hash)
+    result
 }
 
 fn text_attribute(header: &exr::meta::header::Header, key: &str) -> Option<String> {
@@ -271,6 +284,11 @@ fn text_attribute(header: &exr::meta::header::Header, key: &str) -> Option<Strin
 
 /// Reads and validates a table file.
 pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError> {
+    read_table_bytes(&table_file_bytes(path)?, path)
+}
+
+/// The bytes of the file at `path`, unread if it is larger than any table.
+pub fn table_file_bytes(path: &Path) -> std::result::Result<Vec<u8>, TableFileError> {
     let io_error = |source| TableFileError::Io {
         path: path.to_path_buf(),
         source,
@@ -283,7 +301,7 @@ pub fn read_table(path: &Path) -> std::result::Result<TableFile, TableFileError>
             message: too_large(size),
         });
     }
-    read_table_bytes(&std::fs::read(path).map_err(io_error)?, path)
+    std::fs::read(path).map_err(io_error)
 }
 
 fn too_large(size: u64) -> String {

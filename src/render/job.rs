@@ -9,8 +9,10 @@ use super::image::{
 };
 use super::reference::ReferenceEnvironment;
 use super::{FrameSettings, GpuEnvironment, Headless, RenderOutput, reference};
+use crate::bake::taps::table_taps;
 use crate::evaluator::{EvaluationContext, Evaluator, FabricEvaluator};
 use crate::formats::fabric_toml::FabricSet;
+use crate::formats::table_exr::fabric_table_file;
 use crate::gpu::{GpuBrdf, GpuContext, GpuSampleTaps};
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::scene::Scene;
@@ -99,6 +101,8 @@ pub enum RenderError {
     Gpu(#[from] crate::gpu::GpuError),
     #[error(transparent)]
     Image(#[from] ImageFileError),
+    #[error(transparent)]
+    Table(#[from] crate::formats::table_exr::TableFileError),
     #[error("cannot create {path}: {source}", path = .path.display())]
     CreateDirectory {
         path: PathBuf,
@@ -193,14 +197,30 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
             )?),
         };
         // The importance sampler that fits the evaluation (a table's from its texels, else
-        // the fabric's from the resonant quadrature) and the sample taps drawn from it, built
-        // on the CPU once per fabric; the taps are uploaded.
-        let sampler = gpu_environment.as_ref().map(|_| evaluation.sampler());
-        if let (Some(map), Some(sampler)) = (&gpu_environment, &sampler) {
+        // the fabric's from the resonant quadrature) and the sample taps drawn from it: a
+        // table's taps are read from beside it (built and stored there once), any other
+        // evaluation's built on the CPU once per fabric; the taps are uploaded. The sampler
+        // is built where the taps or the reference need it.
+        let table = table_file(job, fabric);
+        let mut sampler = gpu_environment
+            .as_ref()
+            .filter(|_| job.reference)
+            .map(|_| evaluation.sampler());
+        if let Some(map) = &gpu_environment {
             let start = Instant::now();
-            let taps = evaluation.sample_taps(sampler, settings.environment_samples);
+            let samples = settings.environment_samples;
+            let (taps, origin) = match &table {
+                Some(path) => {
+                    let (taps, origin) = table_taps(path, samples)?;
+                    (taps, origin.to_string())
+                }
+                None => {
+                    let sampler = sampler.get_or_insert_with(|| evaluation.sampler());
+                    (evaluation.sample_taps(sampler, samples), "built".into())
+                }
+            };
             say(&format!(
-                "{}: sample taps ({} per wo node, {} nodes) built in {:.2} s",
+                "{}: sample taps ({} per wo node, {} nodes) in {:.2} s: {origin}",
                 fabric.name,
                 taps.samples(),
                 crate::sampling::taps::TAP_NODES,
@@ -312,6 +332,17 @@ pub fn run(job: &RenderJob, say: &mut dyn FnMut(&str)) -> Result<Vec<FabricRende
         });
     }
     Ok(results)
+}
+
+/// The table file that `job`'s evaluator reads for `fabric`, when it is the `table` unit
+/// (`table:PATH`, else the fabric's table in the tables directory); `None` for any other.
+fn table_file(job: &RenderJob, fabric: &Fabric) -> Option<PathBuf> {
+    let spelling = job.evaluator.spelling();
+    let (unit, path) = crate::evaluator::split(&spelling);
+    (unit == crate::evaluator::table::UNIT.name).then(|| match path {
+        Some(path) => PathBuf::from(path),
+        None => job.tables.join(fabric_table_file(&fabric.name)),
+    })
 }
 
 fn create_parent(path: &Path) -> Result<(), RenderError> {

@@ -55,10 +55,12 @@
 //! do not depend on the thread count.
 
 pub mod moments;
+pub mod stored;
 
 use super::row_z;
 use super::{AZIMUTH_NODES, ELEVATION_NODES, Sampler, direction, grid_elevation, grid_nodes};
 use super::{COLUMNS, COSINE_SHARE, ROWS, cell_solid_angle, direction_at_z, node_weights};
+use crate::table::progress::BakeProgress;
 use glam::{DVec3, Vec3};
 use moments::{MOMENT_ORDER, ShBasis, match_moments};
 use rayon::prelude::*;
@@ -165,18 +167,23 @@ impl SampleTaps {
         samples: u32,
         f: impl Fn(&[(DVec3, DVec3)], &mut [DVec3]) + Sync,
     ) -> Self {
-        let order = curve_order();
-        let taps: Vec<Vec<Tap>> = (0..TAP_NODES)
-            .into_par_iter()
-            .map(|n| {
-                let (i, j) = (n / TAP_AZIMUTHS, n % TAP_AZIMUTHS);
-                let wo = direction(
-                    grid_elevation(i, TAP_ELEVATIONS),
-                    j as f64 * TAU / TAP_AZIMUTHS as f64,
-                );
-                strata_taps(sampler, &order, samples, wo, &f)
-            })
-            .collect();
+        Self::pack(samples, &node_taps(sampler, samples, &f, &|| {}))
+    }
+
+    /// [`Self::build`], telling `progress` of each node done ([`TAP_NODES`] rows in all);
+    /// `None` once `progress` says it is cancelled (the nodes left are skipped).
+    pub fn build_cancellable(
+        sampler: &Sampler,
+        samples: u32,
+        f: impl Fn(&[(DVec3, DVec3)], &mut [DVec3]) + Sync,
+        progress: &dyn BakeProgress,
+    ) -> Option<Self> {
+        let taps = node_taps(sampler, samples, &f, progress);
+        (!progress.cancelled()).then(|| Self::pack(samples, &taps))
+    }
+
+    /// The words of every node's `taps` (module doc).
+    fn pack(samples: u32, taps: &[Vec<Tap>]) -> Self {
         let scale = taps
             .iter()
             .flatten()
@@ -237,6 +244,33 @@ impl SampleTaps {
         sum.wi = sum.wi.normalize();
         sum
     }
+}
+
+/// The taps of every node, in parallel (none for the nodes left once `progress` is
+/// cancelled).
+fn node_taps(
+    sampler: &Sampler,
+    samples: u32,
+    f: &(impl Fn(&[(DVec3, DVec3)], &mut [DVec3]) + Sync),
+    progress: &dyn BakeProgress,
+) -> Vec<Vec<Tap>> {
+    let order = curve_order();
+    (0..TAP_NODES)
+        .into_par_iter()
+        .map(|n| {
+            if progress.cancelled() {
+                return Vec::new();
+            }
+            let (i, j) = (n / TAP_AZIMUTHS, n % TAP_AZIMUTHS);
+            let wo = direction(
+                grid_elevation(i, TAP_ELEVATIONS),
+                j as f64 * TAU / TAP_AZIMUTHS as f64,
+            );
+            let taps = strata_taps(sampler, &order, samples, wo, f);
+            progress.row_done();
+            taps
+        })
+        .collect()
 }
 
 /// The taps of one node: the `samples` strata of `sampler`'s density at `wo` along the curve

@@ -19,6 +19,7 @@
 
 use super::bindings::ARRAY_SLOTS;
 use super::gpu_bound::{COORDINATE_ERROR, FILTER_WEIGHT_STEP, GpuErrorBound, floor, range};
+use super::progress::{BakeProgress, row_unless_cancelled};
 use super::{
     LayoutUnit, Plane, PlaneSpec, TableLookup, TextureData, octahedral, quadrilinear_corners,
 };
@@ -79,8 +80,8 @@ impl LayoutUnit for Grid4d {
         spec(resolution).height as u64
     }
 
-    fn bake(&self, fabric: &Fabric, resolution: u32, on_row: &(dyn Fn() + Sync)) -> Vec<Vec<f64>> {
-        vec![bake(fabric, resolution, on_row)]
+    fn bake(&self, fabric: &Fabric, resolution: u32, progress: &dyn BakeProgress) -> Vec<Vec<f64>> {
+        vec![bake(fabric, resolution, progress)]
     }
 
     fn lookup(&self, _fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup> {
@@ -245,26 +246,27 @@ pub fn texel_directions(resolution: u32, x: usize, y: usize) -> (DVec3, DVec3) {
     (centre(x / n, y / n), centre(x % n, y % n))
 }
 
-/// The terms of every texel, row by row, from the direct evaluation.
-pub fn bake(fabric: &Fabric, resolution: u32, on_row: &(dyn Fn() + Sync)) -> Vec<f64> {
+/// The terms of every texel, row by row, from the direct evaluation (zeros for the rows
+/// left once `progress` says the bake is cancelled).
+pub fn bake(fabric: &Fabric, resolution: u32, progress: &dyn BakeProgress) -> Vec<f64> {
     let patch = Patch::new(fabric, Integration::Direct);
     let spec = spec(resolution);
     (0..spec.height)
         .into_par_iter()
         .flat_map_iter(|y| {
-            let row: Vec<f64> = (0..spec.width)
-                .flat_map(|x| {
-                    let (wi, wo) = texel_directions(resolution, x, y);
-                    let terms = patch.terms(wi, wo);
-                    [
-                        terms.reflection,
-                        terms.transmission[0],
-                        terms.transmission[1],
-                    ]
-                })
-                .collect();
-            on_row();
-            row
+            row_unless_cancelled(progress, 3 * spec.width, || {
+                (0..spec.width)
+                    .flat_map(|x| {
+                        let (wi, wo) = texel_directions(resolution, x, y);
+                        let terms = patch.terms(wi, wo);
+                        [
+                            terms.reflection,
+                            terms.transmission[0],
+                            terms.transmission[1],
+                        ]
+                    })
+                    .collect()
+            })
         })
         .collect()
 }

@@ -25,6 +25,7 @@ pub mod grid4d;
 pub mod octahedral;
 pub mod point_samples;
 pub mod prefilter;
+pub mod progress;
 pub mod shader_language;
 pub mod split_frame;
 pub mod thread;
@@ -34,6 +35,7 @@ pub mod wgsl;
 use crate::model::Fabric;
 use glam::{DVec3, Vec3};
 use half::f16;
+use progress::BakeProgress;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::any::Any;
 use std::fmt;
@@ -56,11 +58,13 @@ pub trait LayoutUnit: Sync {
     fn integration(&self) -> &'static str;
     /// The planes of a table of `fabric` at `resolution`.
     fn plane_specs(&self, fabric: &Fabric, resolution: u32) -> Vec<PlaneSpec>;
-    /// Rows of work a bake reports through `on_row`.
+    /// Rows of work a bake reports through [`BakeProgress::row_done`].
     fn bake_rows(&self, fabric: &Fabric, resolution: u32) -> u64;
     /// The values of every plane in the order of [`Self::plane_specs`] (channel-interleaved,
-    /// row by row, before rounding to f16). `on_row` is called once per finished row.
-    fn bake(&self, fabric: &Fabric, resolution: u32, on_row: &(dyn Fn() + Sync)) -> Vec<Vec<f64>>;
+    /// row by row, before rounding to f16). `progress` hears of each finished row; once it
+    /// says the bake is cancelled, the remaining rows are skipped and the values are not
+    /// a table's (the caller discards them).
+    fn bake(&self, fabric: &Fabric, resolution: u32, progress: &dyn BakeProgress) -> Vec<Vec<f64>>;
     /// The lookup of a table of `fabric` at `resolution` (its geometry; texels stay in the
     /// planes).
     fn lookup(&self, fabric: &Fabric, resolution: u32) -> Arc<dyn TableLookup>;

@@ -67,6 +67,7 @@ use super::BatchLanes;
 use super::axis::AxisF32;
 use super::fast_math::Lanes;
 use super::gpu_bound::{self, GpuErrorBound};
+use super::progress::BakeProgress;
 use super::thread::{
     self, AxisPlan, LocatedPairs, MASKING_TEXELS, MIN_BETA_TEXELS, ThreadGeometry, bake_masking,
     bake_thread_plane, f32_exempt, masking_texture, stored_ratios, thread_errors, thread_texture,
@@ -136,14 +137,17 @@ impl LayoutUnit for ThreadFrame {
 
     /// The curve means of every texel of both threads, encoded as "Channels and lookup"
     /// describes, then the masking planes.
-    fn bake(&self, fabric: &Fabric, resolution: u32, on_row: &(dyn Fn() + Sync)) -> Vec<Vec<f64>> {
+    fn bake(&self, fabric: &Fabric, resolution: u32, progress: &dyn BakeProgress) -> Vec<Vec<f64>> {
         let geometry = Geometry::new(fabric, resolution);
         let mut planes = Vec::with_capacity(4);
         for (j, thread) in geometry.threads.iter().enumerate() {
             let model = ThreadModel::new(fabric, j, Integration::Baking);
-            planes.push(bake_thread_plane(thread, on_row, |wi, wo, theta_d| {
+            planes.push(bake_thread_plane(thread, progress, |wi, wo, theta_d| {
                 stored_ratios(&model, wi, wo, theta_d)
             }));
+        }
+        if progress.cancelled() {
+            return planes;
         }
         for (j, thread) in geometry.threads.iter().enumerate() {
             planes.push(bake_masking(fabric, thread, j));

@@ -13,8 +13,10 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod background;
 mod bake;
 mod eval;
 mod fit;
 mod plots;
+mod taps;
 mod weave;

@@ -24,6 +24,7 @@ fn tables_with_every_fabric(dir: &std::path::Path) {
         resolution: ResolutionChoice::Fixed(Layout::ALL[0].resolution_ladder()[0]),
         out: dir.to_path_buf(),
         force: true,
+        environment_samples: None,
     };
     let progress = |_: &str, _: u32, _: u64| -> Box<dyn Fn() + Sync> { Box::new(|| {}) };
     run(&job, &progress, &mut |_: &Fabric, _: &Outcome| {}).unwrap();

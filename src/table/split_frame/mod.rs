@@ -62,6 +62,7 @@
 use super::axis::AxisF32;
 use super::fast_math::Lanes;
 use super::point_samples::{PointSamples, PointSums};
+use super::progress::BakeProgress;
 use super::thread::{self, AxisPlan, LocatedPairs, ThreadGeometry};
 use super::wgsl::{wgsl_f32, wgsl_vec};
 use super::{LayoutUnit, Plane, PlaneSpec, TableLookup};
@@ -158,13 +159,15 @@ impl LayoutUnit for SplitFrame {
             .sum()
     }
 
-    fn bake(&self, fabric: &Fabric, resolution: u32, on_row: &(dyn Fn() + Sync)) -> Vec<Vec<f64>> {
+    fn bake(&self, fabric: &Fabric, resolution: u32, progress: &dyn BakeProgress) -> Vec<Vec<f64>> {
         let geometry = Geometry::new(fabric, resolution);
         let mut tables = Vec::new();
         let mut masking = Vec::new();
         for (j, slopes) in geometry.tabulated() {
-            tables.push(bake_slopes(&slopes.fabric, &slopes.geometry, j, on_row));
-            masking.push(thread::bake_masking(&slopes.fabric, &slopes.geometry, j));
+            tables.push(bake_slopes(&slopes.fabric, &slopes.geometry, j, progress));
+            if !progress.cancelled() {
+                masking.push(thread::bake_masking(&slopes.fabric, &slopes.geometry, j));
+            }
         }
         tables.extend(masking);
         tables
@@ -512,7 +515,7 @@ fn bake_slopes(
     fabric: &Fabric,
     geometry: &ThreadGeometry,
     index: usize,
-    on_row: &(dyn Fn() + Sync),
+    progress: &dyn BakeProgress,
 ) -> Vec<f64> {
     let model = ThreadModel::new(fabric, index, Integration::Baking);
     // The ratios of a pair that is not a texel's own, at its own θd'.
@@ -520,7 +523,7 @@ fn bake_slopes(
         thread::stored_ratios(&model, wi, wo, geometry.coordinates(wi, wo)[1])
     };
     let lift = |w: DVec3, z: f64| DVec3::new(w.x, w.y, z).normalize();
-    thread::bake_thread_plane(geometry, on_row, |wi, wo, theta_d| {
+    thread::bake_thread_plane(geometry, progress, |wi, wo, theta_d| {
         if wi.z >= 0.0 && wo.z >= 0.0 {
             return thread::stored_ratios(&model, wi, wo, theta_d);
         }

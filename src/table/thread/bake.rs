@@ -5,6 +5,7 @@ use super::geometry::{MASKING_TEXELS, ThreadGeometry};
 use crate::model::patch::ThreadModel;
 use crate::model::{Fabric, Integration};
 use crate::table::bindings::{ARRAY_SLOTS, VOLUME_SLOTS};
+use crate::table::progress::{BakeProgress, row_unless_cancelled};
 use crate::table::{Plane, TextureData};
 use glam::DVec3;
 use half::f16;
@@ -69,9 +70,11 @@ pub fn masking_texture(planes: &[Plane]) -> TextureData {
 /// values of their least-squares quadrilinear fit ([`super::prefilter`]). Rows in
 /// parallel, each sample a pure function of its coordinates and the fit a pure function of
 /// the samples, so the result is the same for any thread count.
+/// Once `progress` says the bake is cancelled, the remaining rows hold zeros and the fit is
+/// skipped.
 pub fn bake_thread_plane(
     geometry: &ThreadGeometry,
-    on_row: &(dyn Fn() + Sync),
+    progress: &dyn BakeProgress,
     ratios: impl Fn(DVec3, DVec3, f64) -> [f64; 2] + Sync,
 ) -> Vec<f64> {
     use rayon::prelude::*;
@@ -84,18 +87,25 @@ pub fn bake_thread_plane(
         .flat_map_iter(|row| {
             let (i1, i3, i2) = (row % n[1], (row / n[1]) % n[3], row / (n[1] * n[3]));
             let (values, ratios) = (&values, &ratios);
-            let row_values: Vec<f64> = (0..n[0])
-                .flat_map(|i0| {
-                    let theta_d = values[1][i1];
-                    let (wi, wo) =
-                        geometry.directions([values[0][i0], theta_d, values[2][i2], values[3][i3]]);
-                    ratios(wi, wo, theta_d)
-                })
-                .collect();
-            on_row();
-            row_values
+            row_unless_cancelled(progress, 2 * n[0], || {
+                (0..n[0])
+                    .flat_map(|i0| {
+                        let theta_d = values[1][i1];
+                        let (wi, wo) = geometry.directions([
+                            values[0][i0],
+                            theta_d,
+                            values[2][i2],
+                            values[3][i3],
+                        ]);
+                        ratios(wi, wo, theta_d)
+                    })
+                    .collect()
+            })
         })
         .collect();
+    if progress.cancelled() {
+        return plane;
+    }
     // Plane order, fastest first: βH, θd', v, u.
     crate::table::prefilter::fit_for_multilinear(&mut plane, 2, &[n[0], n[1], n[3], n[2]]);
     plane
