@@ -5,10 +5,10 @@
 use crate::bake::manifest::{Entry, Manifest};
 use crate::bake::taps::{TapsOrigin, build_table_taps, table_taps};
 use crate::bake::{BakeError, bake, bake_rows};
+use crate::formats::atomic::write_atomically;
 use crate::formats::fabric_toml::{FabricFileError, FabricSet};
 use crate::formats::table_exr::{
     TableFileError, expected_hash, fabric_table_file, read_table, table_bytes,
-    write_file_atomically,
 };
 use crate::formats::taps_file::{TableDigest, TapsFileError, taps_path, write_taps};
 use crate::lighting::EnvironmentSource;
@@ -256,7 +256,7 @@ pub fn store_table(
     };
     std::fs::create_dir_all(out).map_err(io(out))?;
     let path = out.join(fabric_table_file(name));
-    write_file_atomically(&path, exr).map_err(io(&path))?;
+    write_atomically(&path, exr).map_err(io(&path))?;
     if let Some(taps) = taps {
         write_taps(&taps_path(&path), &TableDigest::of(exr), taps)?;
     }

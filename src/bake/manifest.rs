@@ -55,7 +55,7 @@ impl Manifest {
     pub fn save(&self, directory: &Path) -> std::io::Result<()> {
         let bytes = bincode::serde::encode_to_vec(self, bincode::config::standard())
             .map_err(std::io::Error::other)?;
-        crate::formats::table_exr::write_file_atomically(&path_in(directory), &bytes)
+        crate::formats::atomic::write_atomically(&path_in(directory), &bytes)
     }
 }
 

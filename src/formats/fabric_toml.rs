@@ -180,20 +180,7 @@ pub fn fabric_file_text(fabrics: &[Fabric], header: &str) -> String {
 pub fn write_fabric_file(path: &Path, fabrics: &[Fabric], header: &str) -> std::io::Result<()> {
     let text = fabric_file_text(fabrics, header);
     FabricSet::parse(&text, &path.display().to_string()).map_err(std::io::Error::other)?;
-    let name = path.file_name().ok_or_else(|| {
-        std::io::Error::new(std::io::ErrorKind::InvalidInput, "the path names no file")
-    })?;
-    let mut temporary_name = std::ffi::OsString::from(".");
-    temporary_name.push(name);
-    temporary_name.push(format!(".{}.tmp", std::process::id()));
-    let temporary = path.with_file_name(temporary_name);
-    let result = std::fs::write(&temporary, text)
-        .and_then(|()| std::fs::File::open(&temporary)?.sync_all())
-        .and_then(|()| std::fs::rename(&temporary, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temporary);
-    }
-    result
+    crate::formats::atomic::write_atomically(path, text.as_bytes())
 }
 
 /// A human-readable summary of `set`: one block per fabric with its key parameters.

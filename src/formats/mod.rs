@@ -7,7 +7,9 @@
 //! - [`environment_map`]: equirectangular environment maps, Radiance `.hdr` and OpenEXR.
 //! - [`wif`] and [`draft_source`]: weave drafts, WIF 1.1 files and named weaves.
 //! - [`json_lines`]: the JSON-lines streams of `clothbake eval` and `clothbake sample`.
+//! - [`atomic`]: every file written whole or not at all.
 
+pub mod atomic;
 pub mod draft_source;
 pub mod environment_map;
 pub mod fabric_toml;

@@ -180,9 +180,11 @@ pub fn fabric_table_file(fabric_name: &str) -> String {
 /// Writes `table` to `path` atomically; returns its provenance hash.
 pub fn write_table(path: &Path, table: &Table) -> std::result::Result<String, TableFileError> {
     let (bytes, hash) = table_bytes(table, path)?;
-    write_file_atomically(path, &bytes).map_err(|source| TableFileError::Io {
-        path: path.to_path_buf(),
-        source,
+    crate::formats::atomic::write_atomically(path, &bytes).map_err(|source| {
+        TableFileError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
     })?;
     Ok(hash)
 }
@@ -248,31 +250,6 @@ pub fn table_bytes(
             source,
         })?;
     Ok((bytes.into_inner(), provenance.hash))
-}
-
-/// Writes `bytes` to `path` atomically: a temporary file beside it (`.NAME.PID.tmp`),
-/// synced, then renamed over it, so that a reader never sees part of a file and an error
-/// leaves the previous file as it was.
-pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let directory = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let file_name = path.file_name().ok_or_else(|| {
-        std::io::Error::new(std::io::ErrorKind::InvalidInput, "the path names no file")
-    })?;
-    let temporary = directory.join(format!(
-        ".{}.{}.tmp",
-        file_name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = std::fs::write(&temporary, bytes)
-        .and_then(|()| std::fs::File::open(&temporary)?.sync_all())
-        .and_then(|()| std::fs::rename(&temporary, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temporary);
-    }
-    result
 }
 
 fn text_attribute(header: &exr::meta::header::Header, key: &str) -> Option<String> {

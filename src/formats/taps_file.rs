@@ -25,7 +25,8 @@
 //! derived from it for one renderer setting (the sample count), larger than the table, and
 //! an EXR cannot hold a digest of its own bytes.
 
-use crate::formats::table_exr::{hex, write_file_atomically};
+use crate::formats::atomic::write_atomically;
+use crate::formats::table_exr::hex;
 use crate::sampling::taps::stored::{TAPS_REVISION, TapsWordsError};
 use crate::sampling::taps::{SampleTaps, TAP_NODES};
 use crate::scene::MAX_ENVIRONMENT_SAMPLES;
@@ -121,7 +122,7 @@ pub fn write_taps(
     table: &TableDigest,
     taps: &SampleTaps,
 ) -> Result<(), TapsFileError> {
-    write_file_atomically(path, &taps_bytes(table, taps)).map_err(|source| TapsFileError::Io {
+    write_atomically(path, &taps_bytes(table, taps)).map_err(|source| TapsFileError::Io {
         path: path.to_path_buf(),
         source,
     })

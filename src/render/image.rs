@@ -260,14 +260,15 @@ fn heat_colour(x: f32) -> [u8; 4] {
     [quantise(c[0]), quantise(c[1]), quantise(c[2]), 255]
 }
 
-/// Writes an 8-bit RGBA PNG.
+/// Writes an 8-bit RGBA PNG, atomically (encoded in memory, then a temporary file renamed
+/// over `path`), so that a reader never sees part of an image.
 pub fn write_png(path: &Path, image: &Rgba8Image) -> Result<(), ImageFileError> {
     let fail = |e: &dyn std::fmt::Display| ImageFileError::Write {
         path: path.to_path_buf(),
         message: e.to_string(),
     };
-    let file = std::fs::File::create(path).map_err(|e| fail(&e))?;
-    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), image.width, image.height);
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, image.width, image.height);
     encoder.set_color(png::ColorType::Rgba);
     encoder.set_depth(png::BitDepth::Eight);
     encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
@@ -275,7 +276,8 @@ pub fn write_png(path: &Path, image: &Rgba8Image) -> Result<(), ImageFileError> 
     writer
         .write_image_data(bytemuck::cast_slice(&image.pixels))
         .map_err(|e| fail(&e))?;
-    writer.finish().map_err(|e| fail(&e))
+    writer.finish().map_err(|e| fail(&e))?;
+    crate::formats::atomic::write_atomically(path, &bytes).map_err(|e| fail(&e))
 }
 
 /// Writes a linear image as an OpenEXR file of f16 RGBA (alpha = coverage).

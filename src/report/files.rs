@@ -14,14 +14,8 @@ pub const JSON_FILE_NAME: &str = "report.json";
 /// over it, so that a reader never sees half a page.
 pub(super) fn write_file(out: &Path, name: &str, text: &str) -> Result<(), ReportError> {
     let path = out.join(name);
-    let temporary = out.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = std::fs::write(&temporary, text)
-        .and_then(|()| std::fs::File::open(&temporary)?.sync_all())
-        .and_then(|()| std::fs::rename(&temporary, &path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temporary);
-    }
-    result.map_err(|source| ReportError::Io { path, source })
+    crate::formats::atomic::write_atomically(&path, text.as_bytes())
+        .map_err(|source| ReportError::Io { path, source })
 }
 
 /// Reads `out/report.json`, as a report run wrote it, and derives every point's comparisons
