@@ -1,4 +1,4 @@
-//! Per fabric, the evaluations the viewer has shown so far with their GPU forms.
+//! Per fabric, the GPU forms of the evaluations the viewer has shown so far.
 
 use crate::evaluator::table::{BakedTable, TableEvaluation};
 use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError, FabricEvaluator};
@@ -16,10 +16,9 @@ pub(super) struct FabricGpu {
     pub taps: Option<GpuSampleTaps>,
 }
 
-/// One evaluation of a fabric and its GPU form.
+/// The GPU form of one evaluation of a fabric.
 pub(super) struct Shown {
     pub spelling: String,
-    pub evaluation: Box<dyn FabricEvaluator>,
     pub brdf: Box<dyn GpuBrdf>,
 }
 
@@ -32,7 +31,6 @@ impl FabricGpu {
         Ok(Self {
             shown: vec![Shown {
                 spelling,
-                evaluation,
                 brdf,
             }],
             taps: None,
@@ -59,7 +57,6 @@ impl FabricGpu {
         let brdf = evaluation.gpu(gpu)?;
         self.shown.push(Shown {
             spelling,
-            evaluation,
             brdf,
         });
         Ok(self.shown.len() - 1)

@@ -8,9 +8,10 @@ mod frame;
 
 pub use edit::{EditSetup, EditTimings};
 
-use crate::evaluator::table::load_fabric_table;
+use crate::bake::taps::table_taps;
+use crate::evaluator::table::{TableError, load_fabric_table};
 use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError};
-use crate::formats::table_exr::TableFile;
+use crate::formats::table_exr::{TableFile, fabric_table_file};
 use crate::gpu::GpuError;
 use crate::gpu::{GpuContext, GpuSampleTaps};
 use crate::lighting::SplitEnvironment;
@@ -229,8 +230,9 @@ impl App {
                 let samples = environment
                     .as_ref()
                     .map(|_| self.setup.scene.environment.samples);
-                let editor = Editor::new(setup.session, setup.evaluator, &gpu, setup.table, samples)
-                    .map_err(|e| ViewError::Render(e.to_string()))?;
+                let editor =
+                    Editor::new(setup.session, setup.evaluator, &gpu, setup.table, samples)
+                        .map_err(|e| ViewError::Render(e.to_string()))?;
                 let renderer = Renderer::new(
                     &gpu,
                     config.format,
@@ -244,9 +246,10 @@ impl App {
                 (renderer, Some(overlay))
             }
             None => {
-                let table = self.first_table.take().ok_or_else(|| {
-                    ViewError::Render("the first table was already used".into())
-                })?;
+                let table = self
+                    .first_table
+                    .take()
+                    .ok_or_else(|| ViewError::Render("the first table was already used".into()))?;
                 let first = FabricGpu::with_table(&gpu, table)
                     .map_err(|e| ViewError::Render(e.to_string()))?;
                 let renderer = Renderer::new(
@@ -316,10 +319,11 @@ impl App {
             (true, Some(map)) => {
                 if f.taps.is_none() {
                     // The environment light is the table's, whatever is shown: strata of its
-                    // sampler's density, each with the table's ∫F over it.
-                    let evaluation = &f.shown[0].evaluation;
-                    let taps = evaluation
-                        .sample_taps(&evaluation.sampler(), self.setup.scene.environment.samples);
+                    // sampler's density, each with the table's ∫F over it, read from beside
+                    // the table (built and stored there on first use).
+                    let path = self.setup.tables.join(fabric_table_file(&fabric.name));
+                    let (taps, _) = table_taps(&path, self.setup.scene.environment.samples)
+                        .map_err(|e| EvaluatorError::from(TableError::from(e)))?;
                     f.taps = Some(GpuSampleTaps::new(&g.gpu, &taps)?);
                 }
                 f.taps.as_ref().map(|taps| (map, taps))
