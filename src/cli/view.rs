@@ -4,10 +4,10 @@ use super::CommandResult;
 use super::options::{
     NodeArgs, SHADER_WORDS, SceneArgs, older_shader_word, older_spelling, older_words,
 };
-use clothbake::evaluator::{self, EvaluatorSpec, paper};
 use clothbake::editor::script::Script;
 use clothbake::editor::session::EditSession;
 use clothbake::evaluator::Evaluator;
+use clothbake::evaluator::{self, EvaluatorSpec, paper};
 use clothbake::render::median;
 use clothbake::scene::Scene;
 use clothbake::table::Layout;
@@ -72,7 +72,7 @@ pub fn run(args: Args) -> CommandResult {
         }
         evaluators
     } else {
-        args.evaluator.into_iter().map(|spec| spec.0).collect()
+        args.evaluator.iter().map(|spec| spec.0.clone()).collect()
     };
     let scene = args.scene.load()?;
     let edit = match &args.edit {
@@ -116,7 +116,10 @@ fn edit_setup(
     let session = if !target.is_empty() {
         EditSession::from_target(target, args.fabric.as_deref())?
     } else {
-        let name = args.fabric.as_deref().or(scene.fabrics.first().map(String::as_str));
+        let name = args
+            .fabric
+            .as_deref()
+            .or(scene.fabrics.first().map(String::as_str));
         let name = name.ok_or("the scene names no fabric to edit")?;
         match &scene.fabric_file {
             Some(file) => EditSession::from_file(file, Some(name))?,

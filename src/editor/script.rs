@@ -94,6 +94,11 @@ pub enum Action {
     },
     /// `wait-bake`: wait until the background bake of the current fabric is done.
     WaitBake,
+    /// `save-table DIR`: the baked table of the current fabric stored in the tables
+    /// directory DIR as `clothbake bake` stores it (`NAME.exr`, `NAME.taps`, the manifest).
+    SaveTable {
+        dir: PathBuf,
+    },
     /// `screenshot PATH`: the window as a PNG.
     Screenshot {
         path: PathBuf,
@@ -170,6 +175,7 @@ impl fmt::Display for Action {
             Action::Redo => f.write_str("redo"),
             Action::Save { path: p } => write!(f, "save {}", path(p)),
             Action::WaitBake => f.write_str("wait-bake"),
+            Action::SaveTable { dir } => write!(f, "save-table {}", path(dir)),
             Action::Screenshot { path: p } => write!(f, "screenshot {}", path(p)),
             Action::Show(s) => write!(f, "show {}", shading_name(*s)),
             Action::Compare(c) => write!(f, "compare {}", compare_name(*c)),
@@ -357,6 +363,12 @@ fn parse_line(line: &str) -> Result<Action, String> {
             arity(1, "save PATH")?;
             Action::Save {
                 path: PathBuf::from(&args[0]),
+            }
+        }
+        "save-table" => {
+            arity(1, "save-table DIR")?;
+            Action::SaveTable {
+                dir: PathBuf::from(&args[0]),
             }
         }
         "screenshot" => {

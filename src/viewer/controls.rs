@@ -261,7 +261,12 @@ impl LightControl {
 
     /// Points the scene's light `index`, a directional one, from `azimuth_deg` and
     /// `elevation_deg` (clamped to ±85° as the keys do).
-    pub fn aim(&mut self, index: usize, azimuth_deg: f64, elevation_deg: f64) -> Result<(), String> {
+    pub fn aim(
+        &mut self,
+        index: usize,
+        azimuth_deg: f64,
+        elevation_deg: f64,
+    ) -> Result<(), String> {
         let count = self.lights.len();
         let Some(Light::Directional { direction, .. }) = self.lights.get_mut(index) else {
             return Err(format!(

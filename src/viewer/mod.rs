@@ -271,6 +271,7 @@ mod tests {
             mesh: None,
             frames: Some(1),
             evaluators: vec![crate::evaluator::parse("table").unwrap()],
+            edit: None,
         };
         let e = run(options.clone()).unwrap_err().to_string();
         assert!(

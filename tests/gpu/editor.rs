@@ -115,7 +115,7 @@ fn differences(a: &[[u8; 3]], b: &[[u8; 3]], pixels: &[usize]) -> (u8, f64, usiz
 #[test]
 fn a_scripted_edit_shows_each_change_matches_the_reference_and_bakes_what_bake_bakes() {
     let dir = temp_dir("editor");
-    let dir = dir.path();
+    let dir: &Path = &dir;
     let steps = [
         ("set thread1.gamma_s_deg 6", "lobe"),
         ("set thread1.albedo 0.08 0.03 0.01", "colour"),
@@ -126,7 +126,7 @@ fn a_scripted_edit_shows_each_change_matches_the_reference_and_bakes_what_bake_b
         let k = k + 1;
         script += &format!("{edit}\nframes 2\nsave {k}.toml\nscreenshot {k}.png\n");
     }
-    script += "wait-bake\nsave-table baked.exr\nsave edited.toml\nexit\n";
+    script += "wait-bake\nsave-table ours\nsave edited.toml\nexit\n";
     let output = edit_under_xvfb(dir, &script, SATIN);
     let all = output_text(&output);
     println!("{all}");
@@ -137,7 +137,10 @@ fn a_scripted_edit_shows_each_change_matches_the_reference_and_bakes_what_bake_b
     // The saved file holds the three edits and nothing else changed.
     let saved = clothbake::formats::fabric_toml::FabricSet::load(&dir.join("edited.toml"))
         .expect("the saved fabric file reads back");
-    let saved = saved.require(SATIN).expect("the fabric keeps its name").clone();
+    let saved = saved
+        .require(SATIN)
+        .expect("the fabric keeps its name")
+        .clone();
     let mut expected = fabric(SATIN);
     expected.thread1.gamma_s_deg = 6.0;
     expected.thread1.albedo = [0.08, 0.03, 0.01];
@@ -153,7 +156,10 @@ fn a_scripted_edit_shows_each_change_matches_the_reference_and_bakes_what_bake_b
         // The edit shows: the drape changed between the panels.
         let (largest, rms, changed) = differences(&shot, &previous, &pixels);
         println!("{what}: {changed} pixels changed, largest {largest}, RMS {rms:.2} levels");
-        assert!(changed > 1000 && largest > 8, "{what} did not change the drape");
+        assert!(
+            changed > 1000 && largest > 8,
+            "{what} did not change the drape"
+        );
         // And it is the fabric as saved at this step: the CPU reference of that file.
         let scene = scene(dir, Some(&format!("{k}.toml")));
         let out = dir.join(format!("reference-{k}.png"));
@@ -202,9 +208,15 @@ fn a_scripted_edit_shows_each_change_matches_the_reference_and_bakes_what_bake_b
         ],
     );
     assert!(bake.status.success(), "{}", output_text(&bake));
-    let ours = std::fs::read(dir.join("baked.exr")).expect("the editor saved its table");
+    let ours = std::fs::read(dir.join("ours").join(format!("{SATIN}.exr")))
+        .expect("the editor saved its table");
     let theirs = std::fs::read(baked.join(format!("{SATIN}.exr"))).unwrap();
-    assert!(ours == theirs, "the editor's table differs from bake's ({} and {} bytes)", ours.len(), theirs.len());
+    assert!(
+        ours == theirs,
+        "the editor's table differs from bake's ({} and {} bytes)",
+        ours.len(),
+        theirs.len()
+    );
 }
 
 /// Per 8-bit level between the screenshot (the resonant quadrature in f32 on the GPU) and
@@ -218,9 +230,17 @@ const REFERENCE_LARGEST_LEVELS: u8 = 4;
 #[test]
 fn bad_input_is_refused_beside_its_field_and_the_fabric_kept() {
     let dir = temp_dir("editor-bad");
-    let dir = dir.path();
-    std::fs::write(dir.join("damaged.toml"), "[[fabric]]\nname = \"x\"\nthread1 = 3\n").unwrap();
-    std::fs::write(dir.join("damaged.wif"), "[WIF]\nVersion=1.1\n[WEAVING]\nShafts=x\n").unwrap();
+    let dir: &Path = &dir;
+    std::fs::write(
+        dir.join("damaged.toml"),
+        "[[fabric]]\nname = \"x\"\nthread1 = 3\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("damaged.wif"),
+        "[WIF]\nVersion=1.1\n[WEAVING]\nShafts=x\n",
+    )
+    .unwrap();
     let script = "set thread1.gamma_s_deg nan\n\
                   set thread1.coverage 1.5\n\
                   set thread2.coverage 0.5\n\
@@ -243,7 +263,10 @@ fn bad_input_is_refused_beside_its_field_and_the_fabric_kept() {
     ] {
         assert!(all.contains(expected), "no '{expected}': {all}");
     }
-    assert!(!output.status.success(), "a session with failed steps exited 0");
+    assert!(
+        !output.status.success(),
+        "a session with failed steps exited 0"
+    );
     // The fabric is the last good one: satin as it was.
     let kept = clothbake::formats::fabric_toml::FabricSet::load(&dir.join("kept.toml")).unwrap();
     assert_eq!(kept.require(SATIN).unwrap(), &fabric(SATIN));

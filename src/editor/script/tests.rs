@@ -17,6 +17,7 @@ redo
 save \"out dir/satin.toml\"
 open fabrics.toml velvet
 wait-bake
+save-table \"baked tables\"
 screenshot shots/frame-1.png
 show edited
 show table
@@ -86,7 +87,7 @@ fn a_script_of_every_action_parses_and_prints_back() {
     // Every kind of action is there, and each prints as a line that parses back to it.
     let kinds: std::collections::HashSet<_> =
         actions.iter().map(|a| std::mem::discriminant(*a)).collect();
-    assert_eq!(kinds.len(), 16);
+    assert_eq!(kinds.len(), 17);
     for (_, action) in &script.steps {
         let line = action.to_string();
         let again = parse(&line).unwrap_or_else(|e| panic!("{line}: {e}"));

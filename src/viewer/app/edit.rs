@@ -160,7 +160,10 @@ impl App {
             match result {
                 Ok(()) => println!("clothbake view: line {line}: screenshot {}", path.display()),
                 Err(e) => {
-                    eprintln!("clothbake view: line {line}: screenshot {}: {e}", path.display());
+                    eprintln!(
+                        "clothbake view: line {line}: screenshot {}: {e}",
+                        path.display()
+                    );
                     editing.failures += 1;
                 }
             }
@@ -169,10 +172,7 @@ impl App {
 
     /// The script's steps up to the next one that waits (for frames, for the bake, for a
     /// screenshot); the rest come back with their lines, to run as the panel's commands do.
-    fn script_steps(
-        editing: &mut Editing,
-        event_loop: &ActiveEventLoop,
-    ) -> Vec<(usize, Action)> {
+    fn script_steps(editing: &mut Editing, event_loop: &ActiveEventLoop) -> Vec<(usize, Action)> {
         let mut steps = Vec::new();
         let Some(run) = &mut editing.script else {
             return steps;
@@ -211,7 +211,8 @@ impl App {
                 action => steps.push((line, action)),
             }
         }
-        if run.next >= run.script.steps.len() && run.wait.is_none() && editing.screenshot.is_none() {
+        if run.next >= run.script.steps.len() && run.wait.is_none() && editing.screenshot.is_none()
+        {
             // A script that ends, with `exit` or without, ends the session.
             event_loop.exit();
         }
@@ -294,6 +295,17 @@ impl App {
                 azimuth_deg,
             } => self.light.aim(*index, *azimuth_deg, *elevation_deg)?,
             Action::Orbit { yaw_deg, pitch_deg } => self.orbit.aim(*yaw_deg, *pitch_deg),
+            Action::SaveTable { dir } => {
+                let baked = editor
+                    .baked
+                    .as_ref()
+                    .filter(|_| editor.table_is_current())
+                    .ok_or("no table of the fabric as it is now is baked yet (`wait-bake` waits for it)")?;
+                std::fs::create_dir_all(dir)
+                    .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+                crate::editor::background::write_baked(dir, &baked.table)
+                    .map_err(|e| e.to_string())?;
+            }
             other => return Err(format!("{other} is not carried out here")),
         }
         Ok(())

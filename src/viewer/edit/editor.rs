@@ -293,7 +293,11 @@ impl Editor {
 }
 
 impl Form {
-    fn new(evaluator: &dyn Evaluator, fabric: &Fabric, gpu: &GpuContext) -> Result<Self, EditorError> {
+    fn new(
+        evaluator: &dyn Evaluator,
+        fabric: &Fabric,
+        gpu: &GpuContext,
+    ) -> Result<Self, EditorError> {
         let context = EvaluationContext::default();
         Ok(Self {
             brdf: evaluator.prepare(fabric, &context)?.gpu(gpu)?,

@@ -51,7 +51,12 @@ pub struct Panel {
 
 impl Panel {
     /// Lays out both panels over `ui` and returns what their widgets asked for.
-    pub fn show(&mut self, ui: &mut egui::Ui, editor: &mut Editor, view: &ViewState<'_>) -> Vec<Command> {
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        editor: &mut Editor,
+        view: &ViewState<'_>,
+    ) -> Vec<Command> {
         let mut commands = Vec::new();
         if self.path.is_empty()
             && let Some(path) = editor.session.saved_path()
@@ -84,11 +89,15 @@ impl Panel {
                     if editor.plotting() {
                         ui.label("computing the plots of this edit…");
                     }
-                    let drawdown = editor.session.draft().map(crate::editor::plots::Drawdown::of);
+                    if chosen_wi(ui, &mut editor.plot_settings) {
+                        commands.push(Command::Replot);
+                    }
+                    let drawdown = editor
+                        .session
+                        .draft()
+                        .map(crate::editor::plots::Drawdown::of);
                     if let Some(plots) = &editor.plots {
-                        if self.plots.show(ui, plots, drawdown.as_ref()) {
-                            commands.push(Command::Replot);
-                        }
+                        self.plots.show(ui, plots, drawdown.as_ref());
                     }
                 });
             });
@@ -118,10 +127,16 @@ impl Panel {
                     path: PathBuf::from(&self.path),
                 }));
             }
-            if ui.add_enabled(session.can_undo(), egui::Button::new("Undo")).clicked() {
+            if ui
+                .add_enabled(session.can_undo(), egui::Button::new("Undo"))
+                .clicked()
+            {
                 commands.push(Command::Action(Action::Undo));
             }
-            if ui.add_enabled(session.can_redo(), egui::Button::new("Redo")).clicked() {
+            if ui
+                .add_enabled(session.can_redo(), egui::Button::new("Redo"))
+                .clicked()
+            {
                 commands.push(Command::Action(Action::Redo));
             }
         });
@@ -144,7 +159,10 @@ impl Panel {
                 self.widget(ui, editor, field, commands);
             });
             if let Some(error) = session.error(field.path) {
-                ui.colored_label(ui.visuals().error_fg_color, format!("{}: {error}", field.path));
+                ui.colored_label(
+                    ui.visuals().error_fg_color,
+                    format!("{}: {error}", field.path),
+                );
             }
         }
     }
@@ -167,7 +185,11 @@ impl Panel {
                         .clamping(egui::SliderClamping::Never)
                         .show_value(false),
                 );
-                slide(&response, Edit::new(field.path, EditValue::Number(v)), commands);
+                slide(
+                    &response,
+                    Edit::new(field.path, EditValue::Number(v)),
+                    commands,
+                );
             }
             (FieldKind::Colour(space), Some(EditValue::Vector(rgb))) if rgb.len() == 3 => {
                 let to_linear = |c: f64| match space {
@@ -180,7 +202,11 @@ impl Panel {
                     ColourSpace::Linear => c as f64,
                     ColourSpace::Srgb => linear_to_srgb(c as f64),
                 });
-                slide(&response, Edit::new(field.path, EditValue::Vector(picked.to_vec())), commands);
+                slide(
+                    &response,
+                    Edit::new(field.path, EditValue::Vector(picked.to_vec())),
+                    commands,
+                );
             }
             (FieldKind::Choice(choices), Some(EditValue::Choice(current))) => {
                 let mut chosen = current.clone();
@@ -202,7 +228,10 @@ impl Panel {
             _ => {}
         }
         let current = editor.session.text(field.path).unwrap_or_default();
-        let typed = self.typed.entry(field.path).or_insert_with(|| current.clone());
+        let typed = self
+            .typed
+            .entry(field.path)
+            .or_insert_with(|| current.clone());
         let response = ui.add(egui::TextEdit::singleline(typed).desired_width(110.0));
         if response.lost_focus() {
             if *typed != current {
@@ -237,7 +266,10 @@ fn shading_section(ui: &mut egui::Ui, editor: &Editor, commands: &mut Vec<Comman
             (Shading::Table, "table"),
             (Shading::Saved, "saved"),
         ] {
-            if ui.selectable_label(editor.shown == shading, label).clicked() {
+            if ui
+                .selectable_label(editor.shown == shading, label)
+                .clicked()
+            {
                 commands.push(Command::Action(Action::Show(shading)));
             }
         }
@@ -249,7 +281,10 @@ fn shading_section(ui: &mut egui::Ui, editor: &Editor, commands: &mut Vec<Comman
             (Compare::Table, "| table"),
             (Compare::Saved, "| saved"),
         ] {
-            if ui.selectable_label(editor.compare == compare, label).clicked() {
+            if ui
+                .selectable_label(editor.compare == compare, label)
+                .clicked()
+            {
                 commands.push(Command::Action(Action::Compare(compare)));
             }
         }
@@ -264,12 +299,16 @@ fn shading_section(ui: &mut egui::Ui, editor: &Editor, commands: &mut Vec<Comman
         ui.colored_label(ui.visuals().error_fg_color, format!("bake: {error}"));
     }
     if let Some(baked) = &editor.baked {
-        let [uniform, highlight] = baked.table.error;
+        let error = &baked.table.error;
         ui.label(format!(
             "table{}: relative RMS against the model {:.2}% (uniform pairs), {:.2}% (highlight)",
-            if editor.table_is_current() { "" } else { " (of an earlier edit)" },
-            100.0 * uniform,
-            100.0 * highlight,
+            if editor.table_is_current() {
+                ""
+            } else {
+                " (of an earlier edit)"
+            },
+            100.0 * error.uniform.relative_rms,
+            100.0 * error.highlight.relative_rms,
         ));
     }
 }
@@ -318,4 +357,23 @@ fn lights_section(ui: &mut egui::Ui, view: &ViewState<'_>, commands: &mut Vec<Co
     if !view.message.is_empty() {
         ui.label(view.message);
     }
+}
+
+/// The incident direction the plots are drawn for: φi from thread 1 (plane and hemisphere)
+/// and the hemisphere image's θi. True once a value is settled (a slider let go or a value
+/// typed), not on every step of a drag: each recomputation takes a moment off the frame.
+fn chosen_wi(ui: &mut egui::Ui, settings: &mut crate::editor::plots::PlotSettings) -> bool {
+    let mut settled = false;
+    let mut slider = |ui: &mut egui::Ui, value: &mut f64, range, text| {
+        let response = ui.add(egui::Slider::new(value, range).text(text).suffix("°"));
+        settled |= response.drag_stopped() || (response.changed() && !response.dragged());
+    };
+    slider(ui, &mut settings.phi_i_deg, 0.0..=180.0, "φi of wi");
+    slider(
+        ui,
+        &mut settings.hemisphere_theta_i_deg,
+        0.0..=85.0,
+        "θi of the hemisphere",
+    );
+    settled
 }
