@@ -29,10 +29,7 @@ impl FabricGpu {
         let brdf = evaluation.gpu(gpu)?;
         let spelling = BakedTable { path: None }.spelling();
         Ok(Self {
-            shown: vec![Shown {
-                spelling,
-                brdf,
-            }],
+            shown: vec![Shown { spelling, brdf }],
             taps: None,
         })
     }
@@ -55,10 +52,7 @@ impl FabricGpu {
         }
         let evaluation = evaluator.prepare(fabric, context)?;
         let brdf = evaluation.gpu(gpu)?;
-        self.shown.push(Shown {
-            spelling,
-            brdf,
-        });
+        self.shown.push(Shown { spelling, brdf });
         Ok(self.shown.len() - 1)
     }
 }

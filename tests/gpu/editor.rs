@@ -9,6 +9,10 @@
 
 use crate::common::*;
 use crate::view::{clothbake_command, run};
+use clothbake::editor::session::EditSession;
+use clothbake::table::Layout;
+use clothbake::viewer::edit::editor::Editor;
+use clothbake::viewer::edit::panel::{Panel, ViewState};
 
 use std::path::Path;
 use std::process::Output;
@@ -223,9 +227,11 @@ fn a_scripted_edit_shows_each_change_matches_the_reference_and_bakes_what_bake_b
 /// the CPU reference (direct evaluation in f64), both tone mapped and rounded: the two
 /// roundings differ by at most one level, and the resonant rule's own error against the
 /// direct one (below 0.3% relative RMS, tests/gpu/resonant.rs) moves a display value by a
-/// fraction of a level.
-const REFERENCE_RMS_LEVELS: f64 = 1.0;
-const REFERENCE_LARGEST_LEVELS: u8 = 4;
+/// fraction of a level. On lavapipe the three edits measure a largest difference of 1 level
+/// and an RMS of 0.31–0.34 levels; the bounds leave one level, and under twice the RMS, for
+/// another driver's rounding of f32.
+const REFERENCE_RMS_LEVELS: f64 = 0.6;
+const REFERENCE_LARGEST_LEVELS: u8 = 2;
 
 #[test]
 fn bad_input_is_refused_beside_its_field_and_the_fabric_kept() {
@@ -270,4 +276,79 @@ fn bad_input_is_refused_beside_its_field_and_the_fabric_kept() {
     // The fabric is the last good one: satin as it was.
     let kept = clothbake::formats::fabric_toml::FabricSet::load(&dir.join("kept.toml")).unwrap();
     assert_eq!(kept.require(SATIN).unwrap(), &fabric(SATIN));
+}
+
+/// Every text the panel drew in one headless egui frame, in drawing order.
+fn panel_texts(editor: &mut Editor) -> Vec<String> {
+    let ctx = egui::Context::default();
+    let mut panel = Panel::default();
+    let view = ViewState {
+        lights: vec![(0, 30.0, 45.0)],
+        environment: None,
+        environment_rotation_deg: 0.0,
+        exposure: 1.0,
+        frame_ms: None,
+        message: "",
+    };
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(
+            egui::Pos2::ZERO,
+            egui::vec2(WINDOW.0 as f32, WINDOW.1 as f32),
+        )),
+        ..Default::default()
+    };
+    // Two frames: egui lays out a panel's size in the first.
+    let mut output = None;
+    for _ in 0..2 {
+        output = Some(ctx.run_ui(input.clone(), |ui| {
+            panel.show(ui, editor, &view);
+        }));
+    }
+    fn texts(shape: &egui::Shape, out: &mut Vec<String>) {
+        match shape {
+            egui::Shape::Text(text) => out.push(text.galley.text().to_string()),
+            egui::Shape::Vec(shapes) => shapes.iter().for_each(|s| texts(s, out)),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for clipped in &output.unwrap().shapes {
+        texts(&clipped.shape, &mut out);
+    }
+    out
+}
+
+#[test]
+fn the_panel_shows_a_refused_value_beside_its_field_and_keeps_the_fabric() {
+    let gpu = gpu_context();
+    let mut session = EditSession::builtin(SATIN).unwrap();
+    for (field, typed) in [("thread1.gamma_s_deg", "nan"), ("thread1.coverage", "1.5")] {
+        assert!(session.apply_text(field, typed).is_err(), "{field} {typed}");
+    }
+    assert_eq!(session.fabric(), &fabric(SATIN));
+    let evaluator = clothbake::evaluator::parse("resonant").unwrap();
+    let table = (Layout::DEFAULT, Layout::DEFAULT.default_resolution());
+    let mut editor = Editor::new(session, evaluator, &gpu, table, None).unwrap();
+    let texts = panel_texts(&mut editor);
+    for field in ["thread1.gamma_s_deg", "thread1.coverage"] {
+        let message = editor.session.error(field).unwrap().to_string();
+        // The error's line comes right after the field's own row (its label and widgets).
+        let at = texts
+            .iter()
+            .position(|t| t == &format!("{field}: {message}"))
+            .unwrap_or_else(|| panic!("no error line for {field} in {texts:?}"));
+        let label = texts[..at]
+            .iter()
+            .rposition(|t| editor.session.fields().any(|f| f.label == t))
+            .unwrap();
+        let spec = editor.session.fields().find(|f| f.path == field).unwrap();
+        assert_eq!(
+            texts[label], spec.label,
+            "{field}: the error follows another field"
+        );
+        println!("{field}: '{message}' beside '{}'", spec.label);
+    }
+    // The fields show the kept fabric's values.
+    let coverage = editor.session.text("thread1.coverage").unwrap();
+    assert!(texts.contains(&coverage), "{coverage} not shown");
 }
