@@ -156,7 +156,13 @@ impl App {
             let result = g
                 .capture(&settings)
                 .map_err(|e| e.to_string())
-                .and_then(|image| write_png(&path, &image).map_err(|e| e.to_string()));
+                .and_then(|image| {
+                    // A script's shots go in folders of their own (`turntable/00.png`).
+                    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+                        std::fs::create_dir_all(parent).map_err(|e| e.to_string())?;
+                    }
+                    write_png(&path, &image).map_err(|e| e.to_string())
+                });
             match result {
                 Ok(()) => println!("clothbake view: line {line}: screenshot {}", path.display()),
                 Err(e) => {

@@ -14,6 +14,11 @@ use std::path::PathBuf;
 /// drape shows between them.
 pub const FIELDS_WIDTH: f32 = 360.0;
 pub const PLOTS_WIDTH: f32 = 340.0;
+/// A field's row: its label's column, its slider and its text box, in points (within
+/// [`FIELDS_WIDTH`] with the spacing and the panel's margins).
+const FIELD_LABEL_WIDTH: f32 = 150.0;
+const FIELD_SLIDER_WIDTH: f32 = 80.0;
+const FIELD_TEXT_WIDTH: f32 = 85.0;
 
 /// What a widget asks for.
 #[derive(Clone, Debug, PartialEq)]
@@ -155,7 +160,18 @@ impl Panel {
                 ui.strong(group);
             }
             ui.horizontal(|ui| {
-                ui.label(field.label).on_hover_text(field.path);
+                // Labels in a column of their own width, so that the widgets line up.
+                let size = egui::vec2(FIELD_LABEL_WIDTH, ui.spacing().interact_size.y);
+                ui.allocate_ui_with_layout(
+                    size,
+                    egui::Layout::left_to_right(egui::Align::Center),
+                    |ui| {
+                        ui.set_min_width(FIELD_LABEL_WIDTH);
+                        ui.add(egui::Label::new(field.label).truncate())
+                            .on_hover_text(field.path);
+                    },
+                );
+                ui.spacing_mut().slider_width = FIELD_SLIDER_WIDTH;
                 self.widget(ui, editor, field, commands);
             });
             if let Some(error) = session.error(field.path) {
@@ -232,7 +248,7 @@ impl Panel {
             .typed
             .entry(field.path)
             .or_insert_with(|| current.clone());
-        let response = ui.add(egui::TextEdit::singleline(typed).desired_width(110.0));
+        let response = ui.add(egui::TextEdit::singleline(typed).desired_width(FIELD_TEXT_WIDTH));
         if response.lost_focus() {
             if *typed != current {
                 commands.push(Command::Action(Action::Set {
@@ -318,10 +334,17 @@ fn lights_section(ui: &mut egui::Ui, view: &ViewState<'_>, commands: &mut Vec<Co
     ui.strong("light");
     for &(index, azimuth, elevation) in &view.lights {
         let (mut az, mut el) = (azimuth, elevation);
-        ui.horizontal(|ui| {
-            ui.label(format!("light {index}"));
-            let a = ui.add(egui::Slider::new(&mut az, 0.0..=360.0).suffix("° az"));
-            let e = ui.add(egui::Slider::new(&mut el, -85.0..=85.0).suffix("° el"));
+        ui.vertical(|ui| {
+            let a = ui.add(
+                egui::Slider::new(&mut az, 0.0..=360.0)
+                    .suffix("°")
+                    .text(format!("light {index} azimuth")),
+            );
+            let e = ui.add(
+                egui::Slider::new(&mut el, -85.0..=85.0)
+                    .suffix("°")
+                    .text(format!("light {index} elevation")),
+            );
             if a.changed() || e.changed() {
                 commands.push(Command::Action(Action::Light {
                     index,

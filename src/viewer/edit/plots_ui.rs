@@ -1,6 +1,7 @@
 //! The editor's pictures of F drawn with egui and egui_plot: the data of
-//! [`crate::editor::plots`] (computed off the frame), one picture at a time under a row of
-//! tabs, each at a fixed size in points so that screenshots of the panel are stable.
+//! [`crate::editor::plots`] (computed off the frame): F in the plane of incidence always, and
+//! under a row of tabs one more picture, each at a fixed height in points so that
+//! screenshots of the panel are stable.
 
 use crate::editor::plots::{BrdfPlots, CurveDistribution, Drawdown, HemisphereImage, colour_map};
 use egui::{
@@ -11,8 +12,8 @@ use egui_plot::{
 };
 use std::ops::RangeInclusive;
 
-/// Width and height of a plot, in points.
-pub const PLOT_SIZE: [f32; 2] = [340.0, 220.0];
+/// Height of a plot, in points (its width is the panel's).
+pub const PLOT_HEIGHT: f32 = 200.0;
 /// Side of the hemisphere image, in points (its colour bar and labels come below).
 pub const HEMISPHERE_SIDE: f32 = 220.0;
 /// Side of the square the drawdown fills at most, in points.
@@ -22,13 +23,11 @@ pub const DRAWDOWN_SIDE: f32 = 220.0;
 /// starts.
 pub const PLANE_LOG_DECADES: f64 = 4.0;
 
-/// The pictures, one per tab.
+/// The pictures under the plane of incidence, one per tab.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum PlotTab {
-    /// F in the plane of incidence.
-    #[default]
-    Plane,
     /// F over the outgoing hemisphere.
+    #[default]
     Hemisphere,
     /// The directional albedo over elevation.
     Albedo,
@@ -39,18 +38,11 @@ pub enum PlotTab {
 }
 
 impl PlotTab {
-    pub const ALL: [Self; 5] = [
-        Self::Plane,
-        Self::Hemisphere,
-        Self::Albedo,
-        Self::Curves,
-        Self::Drawdown,
-    ];
+    pub const ALL: [Self; 4] = [Self::Hemisphere, Self::Albedo, Self::Curves, Self::Drawdown];
 
     /// The tab's label.
     pub fn label(self) -> &'static str {
         match self {
-            Self::Plane => "Plane",
             Self::Hemisphere => "Hemisphere",
             Self::Albedo => "Albedo",
             Self::Curves => "Curves",
@@ -61,13 +53,24 @@ impl PlotTab {
 
 /// The state of the plots' part of the panel: which picture, the plane's scale, and the
 /// hemisphere image's texture with the key of the picture it holds.
-#[derive(Default)]
 pub struct PlotsUi {
     /// The picture shown.
     pub tab: PlotTab,
     /// The plane of incidence on a log scale of luminance (else linear).
     pub log_scale: bool,
     texture: Option<(u64, TextureHandle)>,
+}
+
+impl Default for PlotsUi {
+    /// The hemisphere image under the plane, on the log scale: F's peak is decades above its
+    /// diffuse floor, which a linear scale flattens to a line.
+    fn default() -> Self {
+        Self {
+            tab: PlotTab::default(),
+            log_scale: true,
+            texture: None,
+        }
+    }
 }
 
 /// Line colours of the plane's series, in the order of the settings' θi.
@@ -84,20 +87,20 @@ const THREADS: [Color32; 2] = [
 ];
 
 impl PlotsUi {
-    /// Draws the tabs and the chosen picture of `plots`; `drawdown` is the weave's, where the
-    /// fabric was made from one (its tab then shows it, else says there is none).
+    /// Draws the plane of incidence of `plots`, then the tabs and the chosen picture;
+    /// `drawdown` is the weave's, where the fabric was made from one (its tab then shows it,
+    /// else says there is none).
     pub fn show(&mut self, ui: &mut egui::Ui, plots: &BrdfPlots, drawdown: Option<&Drawdown>) {
+        ui.small(format!("{}, F by {}", plots.fabric, plots.evaluator));
+        ui.checkbox(&mut self.log_scale, "log scale");
+        plane(ui, plots, self.log_scale);
+        ui.separator();
         ui.horizontal(|ui| {
             for tab in PlotTab::ALL {
                 ui.selectable_value(&mut self.tab, tab, tab.label());
             }
         });
-        ui.small(format!("{}, F by {}", plots.fabric, plots.evaluator));
         match self.tab {
-            PlotTab::Plane => {
-                ui.checkbox(&mut self.log_scale, "log scale");
-                plane(ui, plots, self.log_scale);
-            }
             PlotTab::Hemisphere => self.hemisphere(ui, &plots.hemisphere, plots.phi_i_deg),
             PlotTab::Albedo => albedo(ui, plots),
             PlotTab::Curves => curves(ui, &plots.curves),
@@ -195,8 +198,7 @@ pub fn colour_image(image: &HemisphereImage) -> egui::ColorImage {
 /// explored), its x range fixed.
 fn fixed_plot(id: &str, x: RangeInclusive<f64>) -> Plot<'static> {
     Plot::new(id)
-        .width(PLOT_SIZE[0])
-        .height(PLOT_SIZE[1])
+        .height(PLOT_HEIGHT)
         .allow_zoom(false)
         .allow_drag(false)
         .allow_scroll(false)
