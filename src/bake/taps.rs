@@ -4,10 +4,13 @@
 //! another table file, for another sample count or by other code are never used: they are
 //! built again and stored over the old ones, and the caller is told why.
 
-use crate::formats::table_exr::{TableFileError, read_table_bytes, table_file_bytes};
+use crate::formats::table_exr::{
+    TableFileError, expected_hash, fabric_table_file, read_table_bytes, table_file_bytes,
+};
 use crate::formats::taps_file::TapsFileError;
 use crate::formats::taps_file::{TableDigest, TapsKey, read_taps, taps_path, write_taps};
 use crate::measure::accuracy::lookup_batch_f64;
+use crate::model::Fabric;
 use crate::sampling::Sampler;
 use crate::sampling::taps::SampleTaps;
 use crate::table::Table;
@@ -113,6 +116,25 @@ pub fn table_taps(
             stored,
         },
     ))
+}
+
+/// The taps stored beside `fabric`'s table in the tables directory `tables`, where both
+/// are there and current: the table file's provenance is `fabric`'s (at the layout and
+/// resolution it records) and the taps were built from exactly its bytes for `samples`.
+/// Nothing is built or written: `None` costs the caller a build of its own.
+pub fn stored_fabric_taps(tables: &Path, fabric: &Fabric, samples: u32) -> Option<SampleTaps> {
+    let path = tables.join(fabric_table_file(&fabric.name));
+    let bytes = table_file_bytes(&path).ok()?;
+    let file = read_table_bytes(&bytes, &path).ok()?;
+    let hash = expected_hash(fabric, file.table.layout, file.table.resolution);
+    if file.hash != hash {
+        return None;
+    }
+    let key = TapsKey {
+        table: TableDigest::of(&bytes),
+        samples,
+    };
+    read_taps(&taps_path(&path), &key).ok()
 }
 
 #[cfg(test)]
@@ -232,5 +254,29 @@ mod tests {
             taps,
             SampleTaps::for_table(&table, &Sampler::for_table(&table), 2)
         );
+    }
+
+    /// The editor's start: a fabric's stored taps are found only for that fabric as its
+    /// table was baked, and for the sample count they were built for.
+    #[test]
+    fn a_fabric_s_stored_taps_are_found_only_while_current() {
+        let dir = tempfile::Builder::new()
+            .prefix("clothbake-fabric-taps-")
+            .tempdir()
+            .unwrap();
+        let fabric = FabricSet::builtin().fabrics()[0].clone();
+        let table_path = dir.path().join(fabric_table_file(&fabric.name));
+        write_table(&table_path, &small_table(0)).unwrap();
+        let samples = 4;
+        assert_eq!(stored_fabric_taps(dir.path(), &fabric, samples), None);
+        let (built, _) = table_taps(&table_path, samples).unwrap();
+        assert_eq!(
+            stored_fabric_taps(dir.path(), &fabric, samples),
+            Some(built)
+        );
+        assert_eq!(stored_fabric_taps(dir.path(), &fabric, samples + 1), None);
+        let mut edited = fabric.clone();
+        edited.thread1.coverage *= 0.5;
+        assert_eq!(stored_fabric_taps(dir.path(), &edited, samples), None);
     }
 }

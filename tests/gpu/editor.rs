@@ -328,7 +328,7 @@ fn the_panel_shows_a_refused_value_beside_its_field_and_keeps_the_fabric() {
     assert_eq!(session.fabric(), &fabric(SATIN));
     let evaluator = clothbake::evaluator::parse("resonant").unwrap();
     let table = (Layout::DEFAULT, Layout::DEFAULT.default_resolution());
-    let mut editor = Editor::new(session, evaluator, &gpu, table, None).unwrap();
+    let mut editor = Editor::new(session, evaluator, &gpu, table, None, None).unwrap();
     let texts = panel_texts(&mut editor);
     for field in ["thread1.gamma_s_deg", "thread1.coverage"] {
         let message = editor.session.error(field).unwrap().to_string();

@@ -334,10 +334,7 @@ fn sync_renderer(
         editor.display_changed = false;
     }
     if editor.taps_changed {
-        if let (Some(map), Some(taps)) = (
-            &g.environment,
-            editor.baked.as_ref().and_then(|b| b.taps.as_ref()),
-        ) {
+        if let (Some(map), Some(taps)) = (&g.environment, editor.environment_taps()) {
             g.renderer.set_environment(&g.gpu, map, taps)?;
         }
         editor.taps_changed = false;

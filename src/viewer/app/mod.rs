@@ -8,7 +8,7 @@ mod frame;
 
 pub use edit::{EditSetup, EditTimings};
 
-use crate::bake::taps::table_taps;
+use crate::bake::taps::{stored_fabric_taps, table_taps};
 use crate::evaluator::table::{TableError, load_fabric_table};
 use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError};
 use crate::formats::table_exr::{TableFile, fabric_table_file};
@@ -230,9 +230,18 @@ impl App {
                 let samples = environment
                     .as_ref()
                     .map(|_| self.setup.scene.environment.samples);
-                let editor =
-                    Editor::new(setup.session, setup.evaluator, &gpu, setup.table, samples)
-                        .map_err(|e| ViewError::Render(e.to_string()))?;
+                let opened_taps = samples.and_then(|samples| {
+                    stored_fabric_taps(&self.setup.tables, setup.session.fabric(), samples)
+                });
+                let editor = Editor::new(
+                    setup.session,
+                    setup.evaluator,
+                    &gpu,
+                    setup.table,
+                    samples,
+                    opened_taps.as_ref(),
+                )
+                .map_err(|e| ViewError::Render(e.to_string()))?;
                 let renderer = Renderer::new(
                     &gpu,
                     config.format,

@@ -10,6 +10,7 @@ use crate::evaluator::table::TableEvaluation;
 use crate::evaluator::{EvaluationContext, Evaluator, EvaluatorError, FabricEvaluator};
 use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampleTaps};
 use crate::model::Fabric;
+use crate::sampling::taps::SampleTaps;
 use crate::table::Layout;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
@@ -67,6 +68,9 @@ pub struct Editor {
     pub display_changed: bool,
     /// Set when the environment's taps changed since the renderer last took them.
     pub taps_changed: bool,
+    /// The opened fabric's taps as stored beside its table, uploaded: the environment light
+    /// until the first bake brings the edited fabric's own.
+    opened_taps: Option<GpuSampleTaps>,
     /// When the edit not yet shown by a frame was made.
     pub edit_at: Option<Instant>,
 }
@@ -83,14 +87,19 @@ pub enum EditorError {
 impl Editor {
     /// The editor of `session`, shading by `evaluator`'s GPU form (which updates in place,
     /// [`GpuBrdf::update_fabric`], or is rebuilt per edit where it cannot) and baking
-    /// tables of `layout` at `resolution`, with taps for `environment_samples`.
+    /// tables of `layout` at `resolution`, with taps for `environment_samples`;
+    /// `opened_taps` are the opened fabric's, where they were stored with its table.
     pub fn new(
         session: EditSession,
         evaluator: Arc<dyn Evaluator>,
         gpu: &GpuContext,
         (layout, resolution): (Layout, u32),
         environment_samples: Option<u32>,
+        opened_taps: Option<&SampleTaps>,
     ) -> Result<Self, EditorError> {
+        let opened_taps = opened_taps
+            .map(|taps| GpuSampleTaps::new(gpu, taps))
+            .transpose()?;
         let edited = Form::new(evaluator.as_ref(), session.fabric(), gpu)?;
         let saved = Form::new(evaluator.as_ref(), session.saved(), gpu)?;
         let mut editor = Self {
@@ -113,7 +122,8 @@ impl Editor {
             resolution,
             environment_samples,
             display_changed: true,
-            taps_changed: false,
+            taps_changed: opened_taps.is_some(),
+            opened_taps,
             edit_at: None,
         };
         editor.start_plots();
@@ -149,6 +159,14 @@ impl Editor {
         self.poll_bake(gpu);
         self.poll_plots();
         Ok(())
+    }
+
+    /// The environment light's taps: the last baked table's, else the opened fabric's.
+    pub fn environment_taps(&self) -> Option<&GpuSampleTaps> {
+        self.baked
+            .as_ref()
+            .and_then(|baked| baked.taps.as_ref())
+            .or(self.opened_taps.as_ref())
     }
 
     /// Whether the baked table is of the fabric as it is now.
