@@ -129,7 +129,14 @@ fn edit_setup(
     let table = |e: &Arc<dyn Evaluator>| {
         evaluator::unit_of(&e.spelling()).is_some_and(|unit| unit.name == "table")
     };
-    let evaluator = match evaluators.iter().find(|e| !table(e)) {
+    // The model's live shading: the first evaluator named that is not a table, else the
+    // resonant quadrature, whose GPU form takes each edit in its uniforms.
+    let named = if args.evaluator.is_empty() {
+        None
+    } else {
+        evaluators.iter().find(|e| !table(e))
+    };
+    let evaluator = match named {
         Some(e) => e.clone(),
         None => evaluator::parse("resonant")?,
     };
