@@ -47,8 +47,8 @@ pub struct Args {
     /// Edit a fabric with the panel: a built-in fabric, a named weave (`satin`, `twill:2/1`),
     /// a fabric file (with --fabric to choose among its fabrics) or a WIF file; alone, the
     /// fabric --fabric or the scene names first. The drape is shaded by the first
-    /// --evaluator that is not a table (default: resonant) and its table is baked in the
-    /// background.
+    /// --evaluator that is not a table, else by the resonant quadrature, and its table is
+    /// baked in the background.
     #[arg(long, num_args = 0..=1, default_missing_value = "", value_name = "FABRIC_OR_FILE")]
     edit: Option<String>,
     /// With --edit: run the panel's actions from FILE, one per line, frame by frame, then

@@ -1,7 +1,6 @@
 //! The render pipelines of one BRDF shader: the cloth's and the environment's behind it,
 //! each for the display target alone and for display plus linear radiance.
 
-use super::renderer::shader_module;
 use super::targets::DEPTH_FORMAT;
 use crate::gpu::GpuContext;
 use crate::scene::mesh::Vertex;
@@ -176,4 +175,14 @@ fn background_pipeline(
         multiview_mask: None,
         cache: None,
     })
+}
+
+/// The render pass's WGSL as a shader module.
+pub(super) fn shader_module(context: &GpuContext, source: &str) -> wgpu::ShaderModule {
+    context
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("render.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        })
 }

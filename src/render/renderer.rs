@@ -7,7 +7,7 @@ use super::FrameSettings;
 use super::environment_map::{EnvironmentFrame, GpuEnvironment, lighting_group, lighting_layout};
 use super::frame::FrameUniform;
 use super::image;
-use super::pipelines::{Pipelines, mesh_pipeline};
+use super::pipelines::{Pipelines, mesh_pipeline, shader_module};
 use super::targets::{GBUFFER_FORMAT, check_gbuffer_support, linear_format};
 use crate::gpu::{GpuBrdf, GpuContext, GpuError, GpuSampleTaps};
 use crate::scene::mesh::Mesh;
@@ -443,15 +443,6 @@ pub fn render_wgsl(brdf_wgsl: &str) -> String {
         )
         .compose(&[RENDER_MODULE])
         .expect("the render shader composes (validated in the tests)")
-}
-
-pub(super) fn shader_module(context: &GpuContext, source: &str) -> wgpu::ShaderModule {
-    context
-        .device
-        .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("render.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        })
 }
 
 fn depth_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {

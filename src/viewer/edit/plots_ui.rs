@@ -458,8 +458,8 @@ mod tests {
         let image_uploads = |out: &egui::FullOutput| {
             out.textures_delta
                 .set
-                .iter()
-                .flat_map(|(_, deltas)| deltas.iter())
+                .values()
+                .flatten()
                 .filter(|delta| delta.image.size() == [32, 32])
                 .count()
         };
