@@ -111,6 +111,11 @@ pub enum Action {
     Exposure(Exposure),
     /// `environment on|off`: the environment light.
     Environment(bool),
+    /// `environment-map SOURCE`: the environment light from a built-in environment or a
+    /// file, as `--env` names it (`none` removes it).
+    EnvironmentMap {
+        source: String,
+    },
     /// `environment-rotation DEGREES`: the environment turned about +y.
     EnvironmentRotation {
         degrees: f64,
@@ -182,6 +187,7 @@ impl fmt::Display for Action {
             Action::Exposure(Exposure::Scale(s)) => write!(f, "exposure {s}"),
             Action::Exposure(Exposure::Stops(ev)) => write!(f, "exposure {ev}ev"),
             Action::Environment(on) => write!(f, "environment {}", if *on { "on" } else { "off" }),
+            Action::EnvironmentMap { source } => write!(f, "environment-map {}", quoted(source)),
             Action::EnvironmentRotation { degrees } => write!(f, "environment-rotation {degrees}"),
             Action::Light {
                 index,
@@ -410,6 +416,15 @@ fn parse_line(line: &str) -> Result<Action, String> {
                 ));
             }
             Action::Exposure(exposure)
+        }
+        "environment-map" => {
+            arity(1, "environment-map SOURCE")?;
+            args[0]
+                .parse::<crate::lighting::EnvironmentSource>()
+                .map_err(|e| format!("environment-map: {e}"))?;
+            Action::EnvironmentMap {
+                source: args[0].clone(),
+            }
         }
         "environment-rotation" => {
             arity(1, "environment-rotation DEGREES")?;

@@ -252,6 +252,10 @@ fn bad_input_is_refused_beside_its_field_and_the_fabric_kept() {
                   set thread2.coverage 0.5\n\
                   open damaged.toml\n\
                   open damaged.wif\n\
+                  environment-map missing.hdr\n\
+                  environment-map sky\n\
+                  frames 1\n\
+                  environment-map none\n\
                   frames 2\n\
                   save kept.toml\n\
                   exit\n";
@@ -266,6 +270,7 @@ fn bad_input_is_refused_beside_its_field_and_the_fabric_kept() {
         "line 3: set thread2.coverage 0.5",
         "line 4: open damaged.toml",
         "line 5: open damaged.wif",
+        "line 6: environment-map missing.hdr",
     ] {
         assert!(all.contains(expected), "no '{expected}': {all}");
     }
@@ -273,6 +278,8 @@ fn bad_input_is_refused_beside_its_field_and_the_fabric_kept() {
         !output.status.success(),
         "a session with failed steps exited 0"
     );
+    // A built-in environment loads and `none` removes it: those steps did not fail.
+    assert!(all.contains("6 script step(s) failed"), "{all}");
     // The fabric is the last good one: satin as it was.
     let kept = clothbake::formats::fabric_toml::FabricSet::load(&dir.join("kept.toml")).unwrap();
     assert_eq!(kept.require(SATIN).unwrap(), &fabric(SATIN));
@@ -285,6 +292,7 @@ fn panel_texts(editor: &mut Editor) -> Vec<String> {
     let view = ViewState {
         lights: vec![(0, 30.0, 45.0)],
         environment: None,
+        environment_source: "none".into(),
         environment_rotation_deg: 0.0,
         exposure: 1.0,
         frame_ms: None,

@@ -30,6 +30,8 @@ exposure -2ev
 exposure +0.5EV
 environment on
 environment off
+environment-map sky
+environment-map \"my maps/hall.hdr\"
 environment-rotation -45
 light 0 40 -120.5
 orbit 30 28
@@ -87,7 +89,7 @@ fn a_script_of_every_action_parses_and_prints_back() {
     // Every kind of action is there, and each prints as a line that parses back to it.
     let kinds: std::collections::HashSet<_> =
         actions.iter().map(|a| std::mem::discriminant(*a)).collect();
-    assert_eq!(kinds.len(), 17);
+    assert_eq!(kinds.len(), 18);
     for (_, action) in &script.steps {
         let line = action.to_string();
         let again = parse(&line).unwrap_or_else(|e| panic!("{line}: {e}"));

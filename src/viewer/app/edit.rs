@@ -5,6 +5,8 @@ use super::App;
 use crate::editor::script::{Action, Script, Shading};
 use crate::editor::session::EditSession;
 use crate::evaluator::Evaluator;
+use crate::lighting::EnvironmentSource;
+use crate::render::GpuEnvironment;
 use crate::render::image::write_png;
 use crate::table::Layout;
 use crate::viewer::ViewError;
@@ -98,6 +100,7 @@ impl App {
         let view = ViewState {
             lights: self.light.directional_angles(),
             environment: self.setup.environment.as_ref().map(|_| self.environment_on),
+            environment_source: self.setup.scene.environment.source.to_string(),
             environment_rotation_deg: self.environment_rotation_deg,
             exposure: self.setup.scene.exposure,
             frame_ms: self.stats.median_recent(),
@@ -292,6 +295,7 @@ impl App {
                 self.environment_on = *on;
                 editor.taps_changed = true;
             }
+            Action::EnvironmentMap { source } => self.load_environment(editor, source)?,
             Action::EnvironmentRotation { degrees } => {
                 self.environment_rotation_deg = degrees.rem_euclid(360.0);
             }
@@ -314,6 +318,34 @@ impl App {
             }
             other => return Err(format!("{other} is not carried out here")),
         }
+        Ok(())
+    }
+}
+
+impl App {
+    /// Lights the scene by the environment `source` names (`--env`'s words or a file), or by
+    /// none: loaded, its bright sources split off as at the start, uploaded, and the editor's
+    /// bakes asked for taps from then on.
+    fn load_environment(&mut self, editor: &mut Editor, source: &str) -> Result<(), String> {
+        let source: EnvironmentSource = source.parse().map_err(|e| format!("{e}"))?;
+        let sources = self.setup.scene.environment.sources;
+        let split = source
+            .load()
+            .map_err(|e| e.to_string())?
+            .map(|map| map.split_bright_sources(sources));
+        let g = self.graphics.as_mut().ok_or("no window")?;
+        g.environment = split
+            .as_ref()
+            .map(|split| GpuEnvironment::split(&g.gpu, split))
+            .transpose()
+            .map_err(|e| e.to_string())?;
+        self.environment_on = split.is_some();
+        self.setup.environment = split;
+        self.setup.scene.environment.source = source;
+        if self.environment_on {
+            editor.want_taps(self.setup.scene.environment.samples);
+        }
+        editor.taps_changed = true;
         Ok(())
     }
 }

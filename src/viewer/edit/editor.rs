@@ -161,6 +161,17 @@ impl Editor {
         Ok(())
     }
 
+    /// Asks every bake from now on for the environment light's taps at `samples` per pixel
+    /// (an environment was loaded): the fabric's table is baked again at once, with them.
+    pub fn want_taps(&mut self, samples: u32) {
+        if self.environment_samples == Some(samples) {
+            return;
+        }
+        self.environment_samples = Some(samples);
+        self.bake = None;
+        self.bake_due = Some(Instant::now());
+    }
+
     /// The environment light's taps: the last baked table's, else the opened fabric's.
     pub fn environment_taps(&self) -> Option<&GpuSampleTaps> {
         self.baked

@@ -6,6 +6,7 @@ use super::editor::Editor;
 use super::plots_ui::PlotsUi;
 use crate::editor::fields::{ColourSpace, Edit, EditValue, FieldKind, FieldSpec, linear_to_srgb};
 use crate::editor::script::{Action, Compare, Exposure, Shading};
+use crate::lighting::GeneratedEnvironment;
 use crate::weave::yarn::srgb_to_linear;
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -38,6 +39,8 @@ pub struct ViewState<'a> {
     /// The scene's directional lights: (index, azimuth, elevation) in degrees.
     pub lights: Vec<(usize, f64, f64)>,
     pub environment: Option<bool>,
+    /// Where the environment comes from, as `--env` names it.
+    pub environment_source: String,
     pub environment_rotation_deg: f64,
     pub exposure: f64,
     /// The median frame interval lately, milliseconds.
@@ -51,6 +54,8 @@ pub struct ViewState<'a> {
 pub struct Panel {
     typed: HashMap<&'static str, String>,
     path: String,
+    /// The environment file path box.
+    environment_path: String,
     pub plots: PlotsUi,
 }
 
@@ -79,7 +84,7 @@ impl Panel {
                     ui.separator();
                     self.fields_section(ui, editor, &mut commands);
                     ui.separator();
-                    lights_section(ui, view, &mut commands);
+                    self.lights_section(ui, view, &mut commands);
                 });
             });
         egui::Panel::left("clothbake_plots")
@@ -261,6 +266,90 @@ impl Panel {
             typed.clone_from(&current);
         }
     }
+
+    /// The scene's lights, environment and exposure.
+    fn lights_section(
+        &mut self,
+        ui: &mut egui::Ui,
+        view: &ViewState<'_>,
+        commands: &mut Vec<Command>,
+    ) {
+        ui.strong("light");
+        for &(index, azimuth, elevation) in &view.lights {
+            let (mut az, mut el) = (azimuth, elevation);
+            ui.vertical(|ui| {
+                let a = ui.add(
+                    egui::Slider::new(&mut az, 0.0..=360.0)
+                        .suffix("°")
+                        .text(format!("light {index} azimuth")),
+                );
+                let e = ui.add(
+                    egui::Slider::new(&mut el, -85.0..=85.0)
+                        .suffix("°")
+                        .text(format!("light {index} elevation")),
+                );
+                if a.changed() || e.changed() {
+                    commands.push(Command::Action(Action::Light {
+                        index,
+                        elevation_deg: el,
+                        azimuth_deg: az,
+                    }));
+                }
+            });
+        }
+        ui.horizontal(|ui| {
+            let mut chosen = view.environment_source.clone();
+            egui::ComboBox::from_label("environment")
+                .selected_text(chosen.as_str())
+                .show_ui(ui, |ui| {
+                    let names = GeneratedEnvironment::ALL.map(GeneratedEnvironment::name);
+                    for name in ["none", "default", "uniform"].into_iter().chain(names) {
+                        ui.selectable_value(&mut chosen, name.to_string(), name);
+                    }
+                });
+            if chosen != view.environment_source {
+                commands.push(Command::Action(Action::EnvironmentMap { source: chosen }));
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.add(
+                egui::TextEdit::singleline(&mut self.environment_path)
+                    .hint_text(".hdr or .exr file")
+                    .desired_width(FIELD_LABEL_WIDTH + FIELD_SLIDER_WIDTH),
+            );
+            if ui.button("Load").clicked() && !self.environment_path.is_empty() {
+                commands.push(Command::Action(Action::EnvironmentMap {
+                    source: self.environment_path.clone(),
+                }));
+            }
+        });
+        if let Some(on) = view.environment {
+            let mut on_now = on;
+            if ui.checkbox(&mut on_now, "environment light").changed() {
+                commands.push(Command::Action(Action::Environment(on_now)));
+            }
+            let mut degrees = view.environment_rotation_deg;
+            if ui
+                .add(egui::Slider::new(&mut degrees, 0.0..=360.0).text("environment rotation °"))
+                .changed()
+            {
+                commands.push(Command::Action(Action::EnvironmentRotation { degrees }));
+            }
+        }
+        let mut stops = view.exposure.log2();
+        if ui
+            .add(egui::Slider::new(&mut stops, -6.0..=6.0).text("exposure (stops)"))
+            .changed()
+        {
+            commands.push(Command::Action(Action::Exposure(Exposure::Stops(stops))));
+        }
+        if let Some(ms) = view.frame_ms {
+            ui.label(format!("frame {ms:.1} ms"));
+        }
+        if !view.message.is_empty() {
+            ui.label(view.message);
+        }
+    }
 }
 
 /// A slider's or picker's edit: applied while it moves, one undo step per drag.
@@ -326,59 +415,6 @@ fn shading_section(ui: &mut egui::Ui, editor: &Editor, commands: &mut Vec<Comman
             100.0 * error.uniform.relative_rms,
             100.0 * error.highlight.relative_rms,
         ));
-    }
-}
-
-/// The scene's lights, environment and exposure.
-fn lights_section(ui: &mut egui::Ui, view: &ViewState<'_>, commands: &mut Vec<Command>) {
-    ui.strong("light");
-    for &(index, azimuth, elevation) in &view.lights {
-        let (mut az, mut el) = (azimuth, elevation);
-        ui.vertical(|ui| {
-            let a = ui.add(
-                egui::Slider::new(&mut az, 0.0..=360.0)
-                    .suffix("°")
-                    .text(format!("light {index} azimuth")),
-            );
-            let e = ui.add(
-                egui::Slider::new(&mut el, -85.0..=85.0)
-                    .suffix("°")
-                    .text(format!("light {index} elevation")),
-            );
-            if a.changed() || e.changed() {
-                commands.push(Command::Action(Action::Light {
-                    index,
-                    elevation_deg: el,
-                    azimuth_deg: az,
-                }));
-            }
-        });
-    }
-    if let Some(on) = view.environment {
-        let mut on_now = on;
-        if ui.checkbox(&mut on_now, "environment light").changed() {
-            commands.push(Command::Action(Action::Environment(on_now)));
-        }
-        let mut degrees = view.environment_rotation_deg;
-        if ui
-            .add(egui::Slider::new(&mut degrees, 0.0..=360.0).text("environment rotation °"))
-            .changed()
-        {
-            commands.push(Command::Action(Action::EnvironmentRotation { degrees }));
-        }
-    }
-    let mut stops = view.exposure.log2();
-    if ui
-        .add(egui::Slider::new(&mut stops, -6.0..=6.0).text("exposure (stops)"))
-        .changed()
-    {
-        commands.push(Command::Action(Action::Exposure(Exposure::Stops(stops))));
-    }
-    if let Some(ms) = view.frame_ms {
-        ui.label(format!("frame {ms:.1} ms"));
-    }
-    if !view.message.is_empty() {
-        ui.label(view.message);
     }
 }
 
