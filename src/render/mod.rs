@@ -54,6 +54,7 @@ pub(crate) use renderer::STUB_BRDF_WGSL;
 pub use renderer::{
     FrameTargets, GBufferTargets, PreparedBrdf, RENDER_MODULE, Renderer, render_wgsl,
 };
+pub(crate) use targets::target;
 pub use targets::{
     DEPTH_FORMAT, GBUFFER_FORMAT, LINEAR_FORMAT, LINEAR_FORMAT_F16, float32_renderable,
     linear_format,

@@ -45,7 +45,8 @@ pub fn linear_format(context: &GpuContext) -> wgpu::TextureFormat {
     }
 }
 
-pub(super) fn target(
+/// A 2-D texture of `format` to render into and copy out of (read back).
+pub(crate) fn target(
     context: &GpuContext,
     name: &str,
     format: wgpu::TextureFormat,

@@ -134,20 +134,7 @@ impl Graphics {
         let (width, height) = (self.config.width.max(1), self.config.height.max(1));
         let format = self.config.format;
         let texture = self.gpu.checked(|| {
-            self.gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("view screenshot"),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            })
+            crate::render::target(&self.gpu, "view screenshot", format, width, height)
         })?;
         let mut encoder = self
             .gpu

@@ -5,7 +5,8 @@ use clothbake::model::{Integration, Patch, ResonantNodes};
 use std::io::Write;
 use std::process::{Command, Output, Stdio};
 
-fn clothbake(args: &[&str], stdin: &str) -> Output {
+/// Runs the binary with `stdin` on its standard input.
+pub(crate) fn clothbake(args: &[&str], stdin: &str) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_clothbake"))
         .args(args)
         .stdin(Stdio::piped())

@@ -6,25 +6,11 @@ use crate::common::*;
 use clothbake::editor::plots::{BrdfPlots, HemisphereImage, PlotSettings};
 use clothbake::evaluator;
 use clothbake::sampling::{ALBEDO_ELEVATIONS_DEG, Sampler};
-use std::io::Write;
-use std::process::{Command, Stdio};
 use std::sync::Arc;
 
 /// Runs the binary with `stdin`, returning its stdout; fails the test on a failed run.
 fn clothbake(args: &[&str], stdin: String) -> String {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_clothbake"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("spawn clothbake");
-    let mut input = child.stdin.take().unwrap();
-    let writer = std::thread::spawn(move || {
-        let _ = input.write_all(stdin.as_bytes());
-    });
-    let output = child.wait_with_output().unwrap();
-    writer.join().unwrap();
+    let output = crate::eval::clothbake(args, &stdin);
     assert!(
         output.status.success(),
         "{args:?}: {}",

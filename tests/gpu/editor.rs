@@ -8,7 +8,7 @@
 //! and the fabric kept.
 
 use crate::common::*;
-use crate::view::{clothbake_command, run};
+use crate::view::{clothbake_command, run, view_command};
 use clothbake::editor::session::EditSession;
 use clothbake::table::Layout;
 use clothbake::viewer::edit::editor::Editor;
@@ -48,24 +48,16 @@ fn edit_under_xvfb(dir: &Path, script: &str, target: &str) -> Output {
     let script_path = dir.join("session.script");
     std::fs::write(&script_path, script).unwrap();
     let scene = scene(dir, None);
-    let mut command = clothbake_command(
-        "xvfb-run",
-        &[
-            "-a",
-            "-s",
-            "-screen 0 1280x1024x24",
-            env!("CARGO_BIN_EXE_clothbake"),
-            "view",
-            "--scene",
-            path_str(&scene),
-            "--env",
-            "none",
-            "--edit",
-            target,
-            "--script",
-            path_str(&script_path),
-        ],
-    );
+    let mut command = view_command(&[
+        "--scene",
+        path_str(&scene),
+        "--env",
+        "none",
+        "--edit",
+        target,
+        "--script",
+        path_str(&script_path),
+    ]);
     command.current_dir(dir);
     run(command)
 }

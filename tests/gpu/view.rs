@@ -116,17 +116,25 @@ fn frames_drawn(output: &str) -> Option<u64> {
     rest.split_whitespace().next()?.parse().ok()
 }
 
-/// `clothbake view` of `scene` with the tables in `dir` under xvfb-run, drawing `frames`
-/// frames, with `more` arguments.
-fn view_under_xvfb(scene: &Path, dir: &Path, frames: &str, more: &[&str]) -> Output {
-    // xvfb-run's default screen is 640×480 at 8 bits per pixel, which Vulkan drivers may not
-    // present to; ask for 24-bit colour and room for the 1024×768 window.
-    let mut args = vec![
+/// `clothbake view ARGS` under xvfb-run, not yet started. xvfb-run's default screen is
+/// 640×480 at 8 bits per pixel, which Vulkan drivers may not present to; it asks for 24-bit
+/// colour and room for the viewer's windows (1024×768, and the editor's 1280×800).
+pub(crate) fn view_command(args: &[&str]) -> Command {
+    let mut all = vec![
         "-a",
         "-s",
         "-screen 0 1280x1024x24",
         env!("CARGO_BIN_EXE_clothbake"),
         "view",
+    ];
+    all.extend(args);
+    clothbake_command("xvfb-run", &all)
+}
+
+/// `clothbake view` of `scene` with the tables in `dir` under xvfb-run, drawing `frames`
+/// frames, with `more` arguments.
+fn view_under_xvfb(scene: &Path, dir: &Path, frames: &str, more: &[&str]) -> Output {
+    let mut args = vec![
         "--scene",
         path_str(scene),
         "--tables",
@@ -135,7 +143,7 @@ fn view_under_xvfb(scene: &Path, dir: &Path, frames: &str, more: &[&str]) -> Out
         frames,
     ];
     args.extend(more);
-    run(clothbake_command("xvfb-run", &args))
+    run(view_command(&args))
 }
 
 #[test]
