@@ -6,6 +6,7 @@
 //! resonant quadrature, figures by the direct rule, the directions the samples leave
 //! unconstrained). `clothbake fit` (src/cli/fit.rs) is the command over it.
 
+pub mod bounded;
 pub mod cases;
 pub mod identifiability;
 pub mod output;

@@ -1,4 +1,4 @@
-//! The fit: bounded nonlinear least squares by Levenberg–Marquardt over a
+//! The fit: bounded nonlinear least squares ([`super::bounded`]) over a
 //! [`Parametrisation`], the resonant quadrature inside the loop, the converged direct rule for
 //! the figures reported, and the directions the samples leave unconstrained.
 //!
@@ -6,17 +6,18 @@
 //! samples and columns, collected in order), every sum is taken sequentially afterwards, and
 //! the extra starts use fixed seeds, so the result does not depend on the thread count.
 
+use super::bounded::{BoundedProblem, forward_differences, minimise, u_of_value, value_of_u};
 use super::identifiability::{FlatDirection, flat_directions};
 use super::parameters::{FreeParameter, Parametrisation};
 use super::samples::{Sample, SampleError, Samples};
 use crate::model::{Fabric, Integration, Patch, PatchTerms, ResonantNodes};
 use glam::DVec3;
-use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
-use nalgebra::{DMatrix, DVector, Dyn, Owned};
+use levenberg_marquardt::LevenbergMarquardt;
+use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use rayon::prelude::*;
-use std::cell::{Cell, RefCell};
+use std::cell::Cell;
 
 /// How a residual is scaled.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -188,29 +189,6 @@ pub fn relative_rms(fabric: &Fabric, samples: &[Sample]) -> f64 {
     }
 }
 
-/// The bound transform: normalised `u = (1 + sin z) / 2` in [0, 1], so LM works unbounded in z.
-fn u_of_z(z: f64) -> f64 {
-    (0.5 * (1.0 + z.sin())).clamp(0.0, 1.0)
-}
-
-/// Inverse of [`u_of_z`] on the principal branch, `u` kept a little inside (0, 1) so that a
-/// start on a bound can still move (d u / d z vanishes on the bounds).
-fn z_of_u(u: f64) -> f64 {
-    (2.0 * u.clamp(1e-3, 1.0 - 1e-3) - 1.0).asin()
-}
-
-fn value_of_u(p: &FreeParameter, u: f64) -> f64 {
-    p.clamp(p.lower + (p.upper - p.lower) * u)
-}
-
-fn u_of_value(p: &FreeParameter, x: f64) -> f64 {
-    if p.upper > p.lower {
-        ((x - p.lower) / (p.upper - p.lower)).clamp(0.0, 1.0)
-    } else {
-        0.5
-    }
-}
-
 /// Equal apart from the albedos: then F differs only in the linear factor A, and the
 /// factored terms of one evaluation serve both.
 fn same_but_albedo(a: &Fabric, b: &Fabric) -> bool {
@@ -283,103 +261,30 @@ impl Context<'_> {
     }
 }
 
-/// The point z, its fabric, the factored terms per sample and the residuals.
-type Evaluation = (DVector<f64>, Fabric, Vec<PatchTerms>, Vec<f64>);
+/// The fabric and its factored terms at a point: what the Jacobian there reuses.
+type FabricPoint = (Fabric, Vec<PatchTerms>);
 
-/// One start's least-squares problem, in the unbounded variables z.
-struct Problem<'a, 'b> {
-    context: &'a Context<'b>,
-    z: DVector<f64>,
-    /// The fabric and factored terms of the last residual evaluation (the Jacobian is asked
-    /// for at the last accepted point, whose residuals were just computed).
-    last: RefCell<Option<Evaluation>>,
-    evaluations: Cell<usize>,
-    report: &'a dyn Fn(usize, f64),
-}
+impl BoundedProblem for Context<'_> {
+    type Point = FabricPoint;
 
-impl Problem<'_, '_> {
-    fn u(&self) -> Vec<f64> {
-        self.z.iter().map(|&z| u_of_z(z)).collect()
+    fn evaluate(&self, u: &[f64]) -> (FabricPoint, Vec<f64>) {
+        let fabric = self.fabric_of_u(u);
+        let terms = self.terms(&fabric);
+        let r = self.residuals(&fabric, &terms);
+        ((fabric, terms), r)
     }
 
-    /// Fabric, terms and residuals at the current z, computed once.
-    fn evaluate(&self) -> (Fabric, Vec<PatchTerms>, Vec<f64>) {
-        if let Some((z, fabric, terms, r)) = &*self.last.borrow()
-            && *z == self.z
-        {
-            return (fabric.clone(), terms.clone(), r.clone());
-        }
-        let c = self.context;
-        let fabric = c.fabric_of_u(&self.u());
-        let terms = c.terms(&fabric);
-        let r = c.residuals(&fabric, &terms);
-        let n = self.evaluations.get() + 1;
-        self.evaluations.set(n);
-        let objective = 0.5 * r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64;
-        (self.report)(n, objective);
-        *self.last.borrow_mut() = Some((self.z.clone(), fabric.clone(), terms.clone(), r.clone()));
-        (fabric, terms, r)
-    }
-}
-
-/// The Jacobian of the residuals with respect to the normalised parameters u at `u0`, by
-/// forward differences (backward at an upper bound), one column per parameter in parallel.
-fn jacobian_u(
-    context: &Context,
-    u0: &[f64],
-    fabric0: &Fabric,
-    terms0: &[PatchTerms],
-    r0: &[f64],
-) -> DMatrix<f64> {
-    let h = context.options.step;
-    let columns: Vec<Vec<f64>> = (0..u0.len())
-        .into_par_iter()
-        .map(|k| {
-            let mut u = u0.to_vec();
-            let step = if u[k] + h <= 1.0 { h } else { -h };
-            u[k] += step;
-            let fabric = context.fabric_of_u(&u);
-            let r = if same_but_albedo(&fabric, fabric0) {
-                context.residuals(&fabric, terms0)
+    /// Forward differences; a step in an albedo alone reuses the factored terms, F being
+    /// linear in A.
+    fn jacobian(&self, u0: &[f64], (fabric0, terms0): &FabricPoint, r0: &[f64]) -> DMatrix<f64> {
+        forward_differences(u0, r0, self.options.step, |u| {
+            let fabric = self.fabric_of_u(u);
+            if same_but_albedo(&fabric, fabric0) {
+                self.residuals(&fabric, terms0)
             } else {
-                context.residuals(&fabric, &context.terms(&fabric))
-            };
-            r.iter().zip(r0).map(|(a, b)| (a - b) / step).collect()
+                self.residuals(&fabric, &self.terms(&fabric))
+            }
         })
-        .collect();
-    DMatrix::from_fn(r0.len(), u0.len(), |i, k| columns[k][i])
-}
-
-impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, '_> {
-    type ResidualStorage = Owned<f64, Dyn>;
-    type JacobianStorage = Owned<f64, Dyn, Dyn>;
-    type ParameterStorage = Owned<f64, Dyn>;
-
-    fn set_params(&mut self, z: &DVector<f64>) {
-        self.z.copy_from(z);
-    }
-
-    fn params(&self) -> DVector<f64> {
-        self.z.clone()
-    }
-
-    fn residuals(&self) -> Option<DVector<f64>> {
-        let (_, _, r) = self.evaluate();
-        r.iter()
-            .all(|x| x.is_finite())
-            .then(|| DVector::from_vec(r))
-    }
-
-    fn jacobian(&self) -> Option<DMatrix<f64>> {
-        let (fabric, terms, r) = self.evaluate();
-        let u = self.u();
-        let mut j = jacobian_u(self.context, &u, &fabric, &terms, &r);
-        // Chain rule: d u / d z = cos z / 2.
-        for (k, &z) in self.z.iter().enumerate() {
-            let d = 0.5 * z.cos();
-            j.column_mut(k).scale_mut(d);
-        }
-        j.iter().all(|x| x.is_finite()).then_some(j)
     }
 }
 
@@ -517,24 +422,11 @@ pub fn fit(
                     },
                 })
             };
-            let problem = Problem {
-                context: &context,
-                z: DVector::from_iterator(n, u.iter().map(|&u| z_of_u(u))),
-                last: RefCell::new(None),
-                evaluations: Cell::new(0),
-                report: &report,
-            };
-            let (problem, outcome) = solver.minimize(problem);
-            u = problem.u();
-            // The objective at the returned point (the solver's own figure is of its last
-            // trial).
-            let (_, _, r) = problem.evaluate();
-            evaluations += problem.evaluations.get();
-            objective = 0.5 * r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64;
-            termination = format!("{:?}", outcome.termination);
-        }
-        if !objective.is_finite() {
-            objective = f64::INFINITY;
+            let minimum = minimise(&context, &u, &solver, &report);
+            u = minimum.u;
+            evaluations += minimum.evaluations;
+            objective = minimum.objective;
+            termination = minimum.termination;
         }
         best.set(best.get().min(objective));
         results.push((objective, u, termination));
@@ -550,7 +442,7 @@ pub fn fit(
     // Identifiability, in the normalised scale u.
     let terms = context.terms(&fabric);
     let r = context.residuals(&fabric, &terms);
-    let j = jacobian_u(&context, &u, &fabric, &terms, &r);
+    let j = BoundedProblem::jacobian(&context, &u, &(fabric.clone(), terms), &r);
     let dof = (r.len() as f64 - n as f64).max(1.0);
     let noise = (r.iter().map(|x| x * x).sum::<f64>() / dof).sqrt();
     let (singular_values, flat_directions) =
