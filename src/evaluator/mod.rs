@@ -9,6 +9,10 @@
 //! | `resonant[:S/V/B]` | [`resonant`] | the resonant quadrature with these nodes per segment |
 //! | `table[:PATH]`, `PATH.exr` | [`table`] | a baked table's lookup (default: the fabric's table in the tables directory) |
 //! | `constant` | [`constant`] | F = 1/π above the horizon: the cost floor of a frame, not a model |
+//! | `gltf` | [`gltf`] | glTF 2.0 with KHR_materials_sheen and _anisotropy, fitted to the fabric |
+//! | `openpbr` | [`openpbr`] | OpenPBR Surface's fuzz and specular (MaterialX 1.39), fitted |
+//! | `filament` | [`filament`] | Filament's cloth model, fitted |
+//! | `unreal` | [`unreal`] | Unreal Engine's Cloth shading model, fitted |
 //!
 //! A unit is one module here: a file, or a folder holding its CPU evaluation (`mod.rs`), its
 //! GPU form (`gpu.rs`, a [`GpuBrdf`], with the runtime) and its own WGSL (added to the
@@ -21,9 +25,14 @@
 
 pub mod constant;
 pub mod direct;
+pub mod filament;
+pub mod gltf;
+pub mod openpbr;
 pub mod paper;
 pub mod resonant;
+pub mod stock;
 pub mod table;
+pub mod unreal;
 
 use crate::model::Fabric;
 use crate::sampling::{SampleTaps, Sampler};
@@ -44,6 +53,10 @@ pub const EVALUATORS: &[EvaluatorUnit] = &[
     resonant::UNIT,
     table::UNIT,
     constant::UNIT,
+    gltf::UNIT,
+    openpbr::UNIT,
+    filament::UNIT,
+    unreal::UNIT,
 ];
 
 /// One kind of evaluation, as plain data: its name and how its parameter is written and
