@@ -29,6 +29,7 @@
 pub mod bake;
 pub mod editor;
 pub mod evaluator;
+pub mod export;
 pub mod fit;
 pub mod formats;
 #[cfg(feature = "runtime")]

@@ -5,6 +5,7 @@ mod albedo;
 mod bake;
 mod check;
 mod eval;
+mod export;
 mod fabrics;
 mod fit;
 mod options;
@@ -57,6 +58,9 @@ enum Command {
     /// Make a fabric from a weave draft (a named weave or a WIF file) and yarn knobs, or
     /// print the draft's drawdown.
     Weave(weave::Args),
+    /// Export a fabric's best stock material for an engine (glTF, MaterialX/OpenPBR, Filament,
+    /// Unreal) and print what it loses against the fabric.
+    Export(export::Args),
     /// Fit a fabric to measured samples of F: JSON lines {"wi":[x,y,z],"wo":[x,y,z],"f":[r,g,b]}.
     Fit(fit::Args),
     #[cfg(feature = "runtime")]
@@ -88,6 +92,7 @@ impl Cli {
             Command::Check(args) => check::run(args),
             Command::Wgsl(args) => wgsl::run(args),
             Command::Weave(args) => weave::run(args),
+            Command::Export(args) => export::run(args),
             Command::Fit(args) => fit::run(args),
             #[cfg(feature = "runtime")]
             Command::Report(args) => report::run(args),

@@ -12,6 +12,7 @@
 pub mod atomic;
 pub mod draft_source;
 pub mod environment_map;
+pub mod export;
 pub mod fabric_toml;
 pub mod json_lines;
 pub mod table_exr;

@@ -28,6 +28,7 @@
 //!
 //! [`GpuBrdf`]: crate::gpu::GpuBrdf
 
+pub mod drape_loss;
 pub mod image;
 pub mod job;
 pub mod reference;
