@@ -14,22 +14,31 @@
 #   HLSL translations of the lookup (`clothbake wgsl --lang`) and to run the GLSL through
 #   Vulkan;
 # - python3-venv, and libllvm15 for Mitsuba 3's LLVM back end (Dr.Jit loads it at run time);
+# - Debian's Chromium, which tools/export-check/render-gltf.mjs drives headless (playwright-core)
+#   to render `clothbake export`'s glTF with three.js on SwiftShader; it is large (about 80 MB to
+#   download, 290 MB installed with its libraries), but npm's Playwright brings no browser and
+#   none can be downloaded here;
+# - the npm packages of tools/export-check (gltf-validator, three, playwright-core), by
+#   `npm ci` from its package-lock.json when node_modules is missing or older than the lock;
+#   Debian's nodejs and npm only where npm is missing (playwright-core needs Node.js 20 or
+#   newer, and Debian 12's nodejs is 18: then only the glTF validation works);
 # - the Python package `clothbake` (crates/clothbake_py, docs/python.md), built by maturin and
-#   installed with its tools (pytest, Mitsuba 3.6.4) into the virtual environment .venv.
+#   installed with its tools (pytest, Mitsuba 3.6.4, and MaterialX 1.39.5 for
+#   tools/export-check/validate-mtlx.py) into the virtual environment .venv.
 # Packages already installed are left alone, so a second run costs nothing.
 set -euo pipefail
 
 packages=(mesa-vulkan-drivers libvulkan1 xvfb xauth ca-certificates curl
     libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 glslang-tools
-    python3-venv libllvm15)
+    python3-venv libllvm15 chromium)
+sudo=()
+[[ $(id -u) -ne 0 ]] && sudo=(sudo)
 missing=()
 for package in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" ||
         missing+=("$package")
 done
 if ((${#missing[@]})); then
-    sudo=()
-    [[ $(id -u) -ne 0 ]] && sudo=(sudo)
     echo "setup: installing ${missing[*]}" >&2
     "${sudo[@]}" apt-get update -qq
     DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends \
@@ -60,14 +69,34 @@ if ! cargo_is_new_enough; then
     fi
 fi
 
+# The outside checks of `clothbake export` (tools/export-check/README.md): `npm ci` when their
+# node_modules is missing or older than package-lock.json (npm rewrites
+# node_modules/.package-lock.json at each install, so that file's time tells).
+if ! command -v npm >/dev/null; then
+    echo "setup: installing Debian's nodejs and npm" >&2
+    "${sudo[@]}" apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends \
+        nodejs npm >&2
+fi
+export_check=$root/tools/export-check
+if [[ ! -f $export_check/node_modules/.package-lock.json ||
+    $export_check/package-lock.json -nt $export_check/node_modules/.package-lock.json ]]; then
+    echo "setup: installing tools/export-check's npm packages" >&2
+    (cd "$export_check" && npm ci --no-audit --no-fund >&2)
+fi
+node -e 'process.exit(Number(process.versions.node.split(".")[0]) >= 20 ? 0 : 1)' ||
+    echo "setup: warning: Node.js $(node --version) is older than 20, which playwright-core" \
+        "needs: tools/export-check/render-gltf.mjs will not run" >&2
+
 # The Python package and its tools in .venv. Mitsuba is pinned: 3.6.4 runs on Debian 12's
-# LLVM 15, newer releases' JIT aborts there (docs/python.md#versions).
+# LLVM 15, newer releases' JIT aborts there (docs/python.md#versions). MaterialX is pinned to
+# the release tools/export-check/validate-mtlx.py was tested with.
 if [[ ! -x $root/.venv/bin/python ]]; then
     echo "setup: creating the Python virtual environment .venv" >&2
     python3 -m venv "$root/.venv" >&2
 fi
 "$root/.venv/bin/pip" install -q --disable-pip-version-check \
-    "maturin>=1.9.4,<2" "numpy>=1.22" pytest "mitsuba==3.6.4" >&2
+    "maturin>=1.9.4,<2" "numpy>=1.22" pytest "mitsuba==3.6.4" "materialx==1.39.5" >&2
 "$root/scripts/python-package.sh" >&2
 
 # Vulkan loaders warn without a runtime directory; the value does not matter headless.
