@@ -17,4 +17,5 @@ mod properties;
 mod reference;
 mod resonant;
 mod stability;
+mod stock;
 mod weave;

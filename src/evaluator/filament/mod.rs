@@ -100,6 +100,7 @@ pub static MODEL: StockModel = StockModel {
     derive: no_derived,
     eval,
     reciprocal: false,
+    conserves_energy: false,
     #[cfg(feature = "runtime")]
     wgsl: &gpu::FILE,
 };

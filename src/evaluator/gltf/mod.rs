@@ -111,6 +111,7 @@ pub static MODEL: StockModel = StockModel {
     derive,
     eval,
     reciprocal: true,
+    conserves_energy: true,
     #[cfg(feature = "runtime")]
     wgsl: &gpu::FILE,
 };

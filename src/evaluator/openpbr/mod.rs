@@ -107,6 +107,7 @@ pub static MODEL: StockModel = StockModel {
     derive: no_derived,
     eval,
     reciprocal: false,
+    conserves_energy: true,
     #[cfg(feature = "runtime")]
     wgsl: &gpu::FILE,
 };

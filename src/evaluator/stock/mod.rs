@@ -54,6 +54,10 @@ pub struct StockModel {
     pub eval: fn(&[f64], &[f64], DVec3, DVec3) -> DVec3,
     /// Whether F(wi, wo)/cos θi = F(wo, wi)/cos θo for every parameter value.
     pub reciprocal: bool,
+    /// Whether the model is built to reflect at most what arrives (a white material's
+    /// directional albedo ≤ 1, up to the accuracy of its fitted parts): the white furnace
+    /// of tests/model/stock.rs holds it to that.
+    pub conserves_energy: bool,
     /// The unit's WGSL file, defining `cloth_brdf` over the parameters of `stock.wgsl`.
     #[cfg(feature = "runtime")]
     pub wgsl: &'static crate::shader::ShaderFile,

@@ -102,6 +102,7 @@ pub static MODEL: StockModel = StockModel {
     derive: no_derived,
     eval,
     reciprocal: true,
+    conserves_energy: false,
     #[cfg(feature = "runtime")]
     wgsl: &gpu::FILE,
 };
