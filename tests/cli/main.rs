@@ -1,5 +1,5 @@
 //! The `clothbake` binary as users and scripts run it: `fabrics`, `eval`, `sample`,
-//! `albedo`, `bake`, `check`, `wgsl`, `weave`, `fit`; the editor's plots against `eval` and
+//! `albedo`, `bake`, `check`, `wgsl`, `weave`, `fit`, `export`; the editor's plots against `eval` and
 //! `albedo`.
 //!
 //! Builds without the `runtime` feature: scripts/test.sh runs this binary a second time with
@@ -16,6 +16,7 @@ mod common;
 mod background;
 mod bake;
 mod eval;
+mod export;
 mod fit;
 mod plots;
 mod taps;

@@ -37,8 +37,15 @@ fn a_reciprocal_model_is_reciprocal_and_the_others_are_not() {
             for &(wi, wo) in &pairs {
                 let forward = material.eval(wi, wo) / wi.z;
                 let backward = material.eval(wo, wi) / wo.z;
-                assert!(forward.min_element() >= 0.0 && forward.is_finite(), "{}", model.name);
-                let scale = forward.max_element().max(backward.max_element()).max(1e-300);
+                assert!(
+                    forward.min_element() >= 0.0 && forward.is_finite(),
+                    "{}",
+                    model.name
+                );
+                let scale = forward
+                    .max_element()
+                    .max(backward.max_element())
+                    .max(1e-300);
                 largest = largest.max((forward - backward).abs().max_element() / scale);
             }
         }
@@ -47,7 +54,11 @@ fn a_reciprocal_model_is_reciprocal_and_the_others_are_not() {
             // Rounding only: the same terms in another order.
             assert!(largest < 1e-12, "{}: {largest:e}", model.name);
         } else {
-            assert!(largest > 1e-3, "{} claims no reciprocity but has it", model.name);
+            assert!(
+                largest > 1e-3,
+                "{} claims no reciprocity but has it",
+                model.name
+            );
         }
     }
 }

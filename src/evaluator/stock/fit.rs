@@ -22,7 +22,7 @@ use rand_pcg::Pcg64;
 use rayon::prelude::*;
 
 /// Pairs of each set the fit sees.
-pub const FIT_PAIRS: usize = 512;
+pub const FIT_PAIRS: usize = 256;
 /// Seeds of the fit's pairs (the validation sets use others).
 const UNIFORM_FIT_SEED: u64 = 0x5eed_5f01;
 const HIGHLIGHT_FIT_SEED: u64 = 0x5eed_5f02;
