@@ -17,6 +17,7 @@ mod chi2;
 mod common;
 
 mod editor;
+mod export_threejs;
 mod glsl_vulkan;
 mod lookup;
 mod paper;

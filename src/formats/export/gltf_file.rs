@@ -138,8 +138,11 @@ pub fn write(document: &ExportDocument) -> String {
     let [r, g, b] = colour("baseColorFactor");
     let mut extras = loss_json(document);
     extras["tangent"] = json!("TANGENT runs along thread 1 of the fabric");
+    // Double-sided, as clothbake shades a sheet seen from behind (its normal turned to the
+    // eye); a one-sided material would leave holes where the drape shows its back.
     let material = json!({
         "name": document.fabric.name,
+        "doubleSided": true,
         "pbrMetallicRoughness": {
             "baseColorFactor": [r, g, b, 1.0],
             "metallicFactor": value("metallicFactor"),
