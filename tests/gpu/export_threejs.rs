@@ -466,6 +466,14 @@ fn render_fabric(name: &str, dir: &Path, tool: &Path) -> Renders {
         .expect("spawn clothbake export");
     checked(&format!("clothbake export {name}"), exported);
     let export_s = start.elapsed().as_secs_f64();
+    // Every fabric's asset passes the Khronos validator (exit 1 on any error).
+    let validated = Command::new("node")
+        .arg(tool.join("validate-gltf.mjs"))
+        .arg(&gltf)
+        .output()
+        .expect("spawn node");
+    let report = checked(&format!("validate-gltf.mjs {name}.gltf"), validated);
+    assert!(output_text(&report).contains("0 errors"), "{}", output_text(&report));
     // The negative control renders a wrongly exported copy; the prediction reads the export.
     let shown = match std::env::var("CLOTHBAKE_EXPORT_THREEJS_SWAP") {
         Ok(swap) => swap_material(&gltf, &file("-swapped.gltf"), &swap),
