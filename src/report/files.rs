@@ -77,13 +77,18 @@ pub(super) fn json(report: &Report) -> Result<String, ReportError> {
         .map_err(|e| ReportError::Config(format!("cannot serialise the report: {e}")))
 }
 
-/// Renders `out/REPORT.md` and the plots again from the measurements in `out/report.json`,
-/// measuring nothing, and writes REPORT.md and report.json atomically with the comparisons
+/// Renders `out/REPORT.md`, the stock section's page and the plots (not the stock
+/// section's grid of renders, which report.json does not hold) again from the measurements
+/// in `out/report.json`, measuring nothing, and writes REPORT.md and report.json atomically with the comparisons
 /// derived again; returns the report read.
 pub fn rerender(out: &Path) -> Result<Report, ReportError> {
     let report = read(out)?;
     super::plots::write_all(&report, out)?;
     write_file(out, markdown::FILE_NAME, &markdown::render(&report))?;
+    if let Some(section) = &report.stock {
+        let page = super::stock::PAGE_FILE_NAME;
+        write_file(out, page, &markdown::stock::page(section))?;
+    }
     write_file(out, JSON_FILE_NAME, &json(&report)?)?;
     Ok(report)
 }

@@ -2,10 +2,11 @@
 //! speed-up, then the GPU section, the plots, REPORT.md and report.json.
 
 use super::files::{JSON_FILE_NAME, json, write_file};
+use super::provenance::{git_commit, now_utc};
 use super::timing::{self, BakeTiming, pair_by_pair, time_interleaved, time_repeated};
 use super::{
     Evaluation, EvaluationsPerLight, FabricReport, Machine, Point, Report, ReportConfig,
-    ReportError, Speedup, TIMING_SEED, gpu, markdown, plots,
+    ReportError, Speedup, TIMING_SEED, gpu, markdown, plots, section, stock,
 };
 use crate::bake::bake;
 use crate::evaluator::{EvaluationContext, FabricEvaluator, direct};
@@ -278,22 +279,6 @@ fn cpu_model() -> Option<String> {
         .map(|(_, v)| v.trim().to_string())
 }
 
-/// The commit of the working directory's git checkout, "-dirty" when tracked files differ.
-fn git_commit() -> Option<String> {
-    let run = |args: &[&str]| {
-        std::process::Command::new("git")
-            .args(args)
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-    };
-    let head = run(&["rev-parse", "HEAD"]).filter(|h| !h.is_empty())?;
-    let dirty =
-        run(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
-    Some(if dirty { format!("{head}-dirty") } else { head })
-}
-
 /// Runs the report described by `config`, writing REPORT.md, report.json and the plots
 /// into `out`. `progress` receives one line per finished measurement.
 pub fn run(
@@ -335,7 +320,7 @@ pub fn run(
     })?;
     let started = Instant::now();
     let load_average_start = load_average();
-    let date_utc = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
+    let date_utc = now_utc();
     let bake_pool = pool(0)?;
     let mut fabrics = Vec::new();
     // Each fabric's table of the default layout for the GPU section: the one at the
@@ -364,6 +349,14 @@ pub fn run(
         gpu::GpuSection::not_requested()
     };
     gpu.seconds = gpu_started.elapsed().as_secs_f64();
+    let stock = match &config.stock {
+        Some(stock_config) => {
+            let mut run = stock::measure(stock_config, &config.fabrics, progress)?;
+            run.section.command_line = command_line.clone();
+            Some(section::write_stock(run, out)?)
+        }
+        None => None,
+    };
     let mut report = Report {
         clothbake_version: env!("CARGO_PKG_VERSION").to_string(),
         git_commit: git_commit(),
@@ -383,9 +376,15 @@ pub fn run(
         fabric_names: config.fabrics.iter().map(|f| f.name.clone()).collect(),
         fabrics,
         gpu,
+        stock,
         files: Vec::new(),
     };
     report.files = plots::write_all(&report, out)?;
+    for file in report.stock.iter().flat_map(|s| &s.files) {
+        if !report.files.contains(file) {
+            report.files.push(file.clone());
+        }
+    }
     report.elapsed_seconds = started.elapsed().as_secs_f64();
     report.files.push(markdown::FILE_NAME.to_string());
     report.files.push(JSON_FILE_NAME.to_string());

@@ -39,12 +39,16 @@ pub mod markdown;
 mod measure;
 pub mod pick;
 pub mod plots;
+mod provenance;
+mod section;
+pub mod stock;
 mod summary;
 pub mod timing;
 
 pub use evaluation::{Evaluation, baseline_unit, default_spelling, planned_units};
 pub use files::{JSON_FILE_NAME, read, rerender};
 pub use measure::run;
+pub use section::run_stock;
 
 use crate::bake::BakeError;
 use crate::evaluator::{EVALUATORS, EvaluatorError, EvaluatorUnit, ReportPlan};
@@ -105,6 +109,10 @@ pub struct ReportConfig {
     pub gpu_frame: [u32; 2],
     /// Timed GPU frames per measurement; the median is reported.
     pub gpu_frames: usize,
+    /// The section "Every engine's stock model" ([`stock`]), or None to leave it out (and
+    /// out of report.json, which a run before the section wrote without it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stock: Option<stock::StockConfig>,
 }
 
 impl ReportConfig {
@@ -129,6 +137,7 @@ impl ReportConfig {
             gpu: true,
             gpu_frame: [128, 128],
             gpu_frames: 3,
+            stock: Some(stock::StockConfig::quick()),
         }
     }
 
@@ -153,6 +162,7 @@ impl ReportConfig {
             gpu: true,
             gpu_frame: [256, 256],
             gpu_frames: 7,
+            stock: Some(stock::StockConfig::full()),
         }
     }
 }
@@ -404,6 +414,10 @@ pub struct Report {
     pub fabric_names: Vec<String>,
     pub fabrics: Vec<FabricReport>,
     pub gpu: gpu::GpuSection,
+    /// Every engine's stock model against the fabrics ([`stock`]); None where the run left
+    /// it out. `clothbake report --section stock` measures it alone and merges it here.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stock: Option<stock::StockSection>,
     /// Files written, relative to the output directory.
     pub files: Vec<String>,
 }

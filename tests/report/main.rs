@@ -6,3 +6,4 @@
 
 mod render;
 mod run;
+mod stock;

@@ -43,6 +43,8 @@ fn tiny_config() -> ReportConfig {
         speedup_resolution: 4,
         speedup_repetitions: 1,
         gpu: false,
+        // The stock section has its own test (stock.rs).
+        stock: None,
         ..ReportConfig::quick(fabrics)
     }
 }
@@ -328,6 +330,8 @@ fn every_unit_with_a_report_plan_is_measured_and_written_without_being_named() {
         speedup_resolution: 4,
         speedup_repetitions: 1,
         gpu: false,
+        // The stock section has its own test (stock.rs).
+        stock: None,
         ..quick
     };
     let out = out_dir().with_extension("units");

@@ -9,6 +9,7 @@ use crate::evaluator::EvaluatorUnit;
 use std::fmt::Write;
 
 mod gpu;
+pub mod stock;
 use gpu::gpu_section;
 
 /// The Markdown file's name in the output directory.
@@ -465,5 +466,8 @@ pub fn render(report: &Report) -> String {
     }
     bake_section(report, &mut md);
     gpu_section(report, &mut md);
+    if let Some(section) = &report.stock {
+        stock::summary(section, &mut md);
+    }
     md
 }

@@ -6,6 +6,7 @@
 
 #[macro_use]
 mod chart;
+pub mod stock;
 
 use super::gpu::GpuPoint;
 use super::{Evaluation, FabricReport, Point, Report, ReportError};
@@ -274,6 +275,14 @@ fn gpu_cost(report: &Report, path: &Path) -> PlotResult {
     })
 }
 
+/// The stock section's errors ([`stock::stock_error`]), where the report has the section.
+fn stock_error(report: &Report, path: &Path) -> PlotResult {
+    match &report.stock {
+        Some(section) => stock::stock_error(section, path),
+        None => Ok(()),
+    }
+}
+
 /// Writes every plot the report has data for into `out`; returns their file names.
 pub fn write_all(report: &Report, out: &Path) -> Result<Vec<String>, ReportError> {
     let mut plots: Vec<(&str, Plot)> = vec![
@@ -283,6 +292,9 @@ pub fn write_all(report: &Report, out: &Path) -> Result<Vec<String>, ReportError
     ];
     if report.gpu.measured && !report.gpu.fabrics.is_empty() {
         plots.push((GPU_COST, gpu_cost));
+    }
+    if report.stock.is_some() {
+        plots.push((stock::STOCK_ERROR, stock_error));
     }
     let mut written = Vec::new();
     for (file, draw) in plots {
