@@ -20,7 +20,8 @@ pub struct Args {
     /// F from this table's lookup (its own fabric) instead of the direct evaluation.
     #[arg(long, conflicts_with = "evaluator")]
     table: Option<PathBuf>,
-    /// How F is evaluated (direct, paper[:N], resonant[:S/V/B], table[:PATH], constant).
+    /// How F is evaluated (direct, paper[:N], resonant[:S/V/B], table[:PATH], constant, or
+    /// a stock model: gltf, openpbr, filament, unreal).
     #[arg(long)]
     evaluator: Option<EvaluatorSpec>,
     /// Importance samples per outgoing direction.

@@ -16,7 +16,8 @@ pub struct Args {
     #[arg(long)]
     fabric: String,
     /// How F is evaluated, in the spelling every command shares: direct (the default),
-    /// paper[:N], resonant[:S/V/B], table[:PATH] (or a path ending in .exr), constant.
+    /// paper[:N], resonant[:S/V/B], table[:PATH] (or a path ending in .exr), constant, or an
+    /// engine's stock model fitted to the fabric: gltf, openpbr, filament, unreal.
     #[arg(long, conflicts_with_all = ["integration", "samples", "surface_nodes", "volume_nodes", "base_nodes"])]
     evaluator: Option<EvaluatorSpec>,
     /// The older spelling of --evaluator: the converged direct rule (default unless

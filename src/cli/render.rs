@@ -26,7 +26,8 @@ pub struct Args {
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     frames: u32,
     /// How the shader evaluates F, in the spelling every command shares: table[:PATH] (the
-    /// default: each fabric's table in --tables), paper[:N], resonant[:S/V/B], constant.
+    /// default: each fabric's table in --tables), paper[:N], resonant[:S/V/B], constant, or an
+    /// engine's stock model fitted to the fabric: gltf, openpbr, filament, unreal.
     #[arg(long, conflicts_with_all = ["shader", "samples", "surface_nodes", "volume_nodes", "base_nodes"])]
     evaluator: Option<EvaluatorSpec>,
     /// The older spelling of --evaluator: lookup (table), paper or direct (both paper mode

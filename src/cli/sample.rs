@@ -19,7 +19,8 @@ pub struct Args {
     /// F from this table's lookup instead of the direct evaluation (`--evaluator table:PATH`).
     #[arg(long, conflicts_with = "evaluator")]
     table: Option<PathBuf>,
-    /// How F is evaluated (direct, paper[:N], resonant[:S/V/B], table[:PATH], constant);
+    /// How F is evaluated (direct, paper[:N], resonant[:S/V/B], table[:PATH], constant, or
+    /// a stock model: gltf, openpbr, filament, unreal);
     /// the directions are drawn by the fabric's sampler whatever F is.
     #[arg(long)]
     evaluator: Option<EvaluatorSpec>,

@@ -30,7 +30,7 @@ pub struct Args {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000_000))]
     frames: Option<u32>,
     /// An evaluator to show, in the spelling every command shares: table[:PATH], paper[:N],
-    /// resonant[:S/V/B], constant. Repeat it for a list that key V cycles through, the first
+    /// resonant[:S/V/B], constant, gltf, openpbr, filament, unreal. Repeat it for a list that key V cycles through, the first
     /// shown at start (default: table, paper, resonant).
     #[arg(long, conflicts_with_all = ["shader", "samples", "surface_nodes", "volume_nodes", "base_nodes"])]
     evaluator: Vec<EvaluatorSpec>,
