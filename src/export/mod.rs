@@ -29,6 +29,9 @@ pub struct ExportTarget {
     pub extension: &'static str,
     /// What the file is, in a few words.
     pub summary: &'static str,
+    /// The engine's name for the material model the file holds (an engine JSON's
+    /// `shading_model`).
+    pub shading_model: &'static str,
     /// The file's text for a document.
     pub write: fn(&ExportDocument) -> String,
 }
@@ -37,6 +40,7 @@ pub struct ExportTarget {
 pub const TARGETS: &[ExportTarget] = &[
     ExportTarget {
         name: "gltf",
+        shading_model: "pbrMetallicRoughness",
         model: &gltf::MODEL,
         extension: "gltf",
         summary: "glTF 2.0 with the drape mesh (tangents along thread 1), camera and lights",
@@ -44,6 +48,7 @@ pub const TARGETS: &[ExportTarget] = &[
     },
     ExportTarget {
         name: "materialx",
+        shading_model: "open_pbr_surface",
         model: &openpbr::MODEL,
         extension: "mtlx",
         summary: "MaterialX 1.39 document with an open_pbr_surface",
@@ -51,6 +56,7 @@ pub const TARGETS: &[ExportTarget] = &[
     },
     ExportTarget {
         name: "filament",
+        shading_model: "cloth",
         model: &filament::MODEL,
         extension: "json",
         summary: "JSON of Filament's cloth material inputs",
@@ -58,6 +64,7 @@ pub const TARGETS: &[ExportTarget] = &[
     },
     ExportTarget {
         name: "unreal",
+        shading_model: "MSM_Cloth",
         model: &unreal::MODEL,
         extension: "json",
         summary: "JSON of Unreal Engine's Cloth shading model pins",
@@ -115,6 +122,8 @@ pub fn export(
     let fit = fit(target.model, fabric);
     let loss = measure(&fit.material);
     let text = (target.write)(&ExportDocument {
+        engine: target.name,
+        shading_model: target.shading_model,
         fabric,
         material: &fit.material,
         loss: &loss,

@@ -11,13 +11,9 @@ use super::{ExportDocument, loss_json, parameters_json};
 
 /// The JSON text of `document`.
 pub fn write(document: &ExportDocument) -> String {
-    let (engine, shading_model) = match document.material.model.name {
-        "unreal" => ("unreal", "MSM_Cloth"),
-        name => (name, "cloth"),
-    };
     let value = serde_json::json!({
-        "engine": engine,
-        "shading_model": shading_model,
+        "engine": document.engine,
+        "shading_model": document.shading_model,
         "parameters": parameters_json(document.material),
         "clothbake": loss_json(document),
     });

@@ -15,6 +15,9 @@ use crate::scene::mesh::Mesh;
 
 /// What a writer is given.
 pub struct ExportDocument<'a> {
+    /// The target's name (`--to`) and its engine's name of the material model.
+    pub engine: &'a str,
+    pub shading_model: &'a str,
     pub fabric: &'a Fabric,
     pub material: &'a StockMaterial,
     pub loss: &'a Loss,
