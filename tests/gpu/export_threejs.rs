@@ -473,7 +473,11 @@ fn render_fabric(name: &str, dir: &Path, tool: &Path) -> Renders {
         .output()
         .expect("spawn node");
     let report = checked(&format!("validate-gltf.mjs {name}.gltf"), validated);
-    assert!(output_text(&report).contains("0 errors"), "{}", output_text(&report));
+    assert!(
+        output_text(&report).contains("0 errors"),
+        "{}",
+        output_text(&report)
+    );
     // The negative control renders a wrongly exported copy; the prediction reads the export.
     let shown = match std::env::var("CLOTHBAKE_EXPORT_THREEJS_SWAP") {
         Ok(swap) => swap_material(&gltf, &file("-swapped.gltf"), &swap),
