@@ -4,9 +4,10 @@
 //! runtime) the drape's image under a scene's camera and lights ([`crate::render::drape_loss`]).
 
 use crate::evaluator::stock::StockMaterial;
-use crate::measure::accuracy::{Reference, SetError};
+use crate::measure::accuracy::{Reference, SetError, TableError};
 use crate::model::{Fabric, Integration, Patch, ResonantNodes};
 use crate::sampling::{AlbedoRow, Sampler, albedo_curve};
+use glam::DVec3;
 
 /// Pairs of each validation set an export is measured on.
 pub const LOSS_PAIRS: usize = 512;
@@ -51,7 +52,8 @@ pub struct FabricReference {
 
 impl FabricReference {
     /// The direct evaluation on the validation sets and the albedo curve of the resonant
-    /// quadrature (its error is far below any stock model's) of `fabric`.
+    /// quadrature of `fabric` (the curve is estimated by sampling, and the resonant rule's
+    /// error is lost in that estimate's; docs/notebook/2026-12-07-export.md).
     pub fn new(fabric: &Fabric) -> Self {
         let sampler = Sampler::for_fabric(fabric);
         let patch = Patch::new(fabric, Integration::Resonant(ResonantNodes::DEFAULT));
@@ -63,10 +65,15 @@ impl FabricReference {
         }
     }
 
+    /// The errors of any estimate of F (a table's lookup, say) on the validation sets.
+    pub fn errors(&self, estimate: impl Fn(DVec3, DVec3) -> DVec3 + Sync) -> TableError {
+        self.reference.measure(estimate)
+    }
+
     /// The errors of `material` on the sets and the albedo curve (`image` left to the
     /// caller).
     pub fn measure(&self, material: &StockMaterial) -> Loss {
-        let errors = self.reference.measure(|wi, wo| material.eval(wi, wo));
+        let errors = self.errors(|wi, wo| material.eval(wi, wo));
         let stock = albedo_curve(
             &self.sampler,
             |wi, wo| material.eval(wi, wo),

@@ -27,8 +27,6 @@ pub struct ExportTarget {
     pub model: &'static StockModel,
     /// The file's usual extension.
     pub extension: &'static str,
-    /// What the file is, in a few words.
-    pub summary: &'static str,
     /// The engine's name for the material model the file holds (an engine JSON's
     /// `shading_model`).
     pub shading_model: &'static str,
@@ -43,7 +41,6 @@ pub const TARGETS: &[ExportTarget] = &[
         shading_model: "pbrMetallicRoughness",
         model: &gltf::MODEL,
         extension: "gltf",
-        summary: "glTF 2.0 with the drape mesh (tangents along thread 1), camera and lights",
         write: gltf_file::write,
     },
     ExportTarget {
@@ -51,7 +48,6 @@ pub const TARGETS: &[ExportTarget] = &[
         shading_model: "open_pbr_surface",
         model: &openpbr::MODEL,
         extension: "mtlx",
-        summary: "MaterialX 1.39 document with an open_pbr_surface",
         write: materialx::write,
     },
     ExportTarget {
@@ -59,7 +55,6 @@ pub const TARGETS: &[ExportTarget] = &[
         shading_model: "cloth",
         model: &filament::MODEL,
         extension: "json",
-        summary: "JSON of Filament's cloth material inputs",
         write: engine_json::write,
     },
     ExportTarget {
@@ -67,7 +62,6 @@ pub const TARGETS: &[ExportTarget] = &[
         shading_model: "MSM_Cloth",
         model: &unreal::MODEL,
         extension: "json",
-        summary: "JSON of Unreal Engine's Cloth shading model pins",
         write: engine_json::write,
     },
 ];

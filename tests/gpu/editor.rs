@@ -69,7 +69,7 @@ fn clothbake(dir: &Path, args: &[&str]) -> Output {
 }
 
 /// An 8-bit RGBA or RGB PNG as RGB pixels, with its size.
-fn read_rgb(path: &Path) -> (u32, u32, Vec<[u8; 3]>) {
+pub(crate) fn read_rgb(path: &Path) -> (u32, u32, Vec<[u8; 3]>) {
     let decoder = png::Decoder::new(std::io::BufReader::new(
         std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
     ));

@@ -45,6 +45,7 @@
 //! scripts/setup.sh installs; missing, the test fails and says so.
 
 use super::common::{gpu_context, output_text, temp_dir};
+use super::editor::read_rgb;
 use clothbake::evaluator::constant::gpu::GpuConstant;
 use clothbake::evaluator::gltf::MODEL;
 use clothbake::evaluator::stock::StockMaterial;
@@ -400,26 +401,6 @@ fn display(radiance: [f64; 3]) -> [u8; 3] {
     tonemap(radiance.map(|c| c as f32), EXPOSURE).map(quantise)
 }
 
-/// An 8-bit RGB(A) PNG as RGB pixels, rows top to bottom.
-fn read_png(path: &Path) -> (u32, u32, Vec<[u8; 3]>) {
-    let decoder = png::Decoder::new(std::io::BufReader::new(
-        std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
-    ));
-    let mut reader = decoder.read_info().expect("valid PNG header");
-    let mut buffer = vec![0; reader.output_buffer_size().expect("size")];
-    let info = reader.next_frame(&mut buffer).expect("valid PNG data");
-    let channels = match info.color_type {
-        png::ColorType::Rgba => 4,
-        png::ColorType::Rgb => 3,
-        other => panic!("{}: {other:?}", path.display()),
-    };
-    let pixels = buffer[..info.buffer_size()]
-        .chunks_exact(channels)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect();
-    (info.width, info.height, pixels)
-}
-
 /// The 99th percentile (nearest rank) of `values`.
 fn p99(values: &mut [f64]) -> f64 {
     values.sort_by(f64::total_cmp);
@@ -599,8 +580,8 @@ fn compare(
         &ThreeMaterial::new(&material, dfg),
         roughness,
     );
-    let (tw, th, three_png) = read_png(&renders.three);
-    let (cw, ch, own_png) = read_png(&renders.clothbake);
+    let (tw, th, three_png) = read_rgb(&renders.three);
+    let (cw, ch, own_png) = read_rgb(&renders.clothbake);
     assert_eq!(
         (tw, th, cw, ch),
         (WIDTH, HEIGHT, WIDTH, HEIGHT),

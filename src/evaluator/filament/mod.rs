@@ -9,9 +9,6 @@
 //! - `F = Fd + Fr · n·l` (the wrapped diffuse replaces the cosine, so the model is not
 //!   reciprocal).
 
-#[cfg(feature = "runtime")]
-pub mod gpu;
-
 use super::stock::lobes::{charlie_d, neubelt_visibility};
 use super::stock::{StockModel, StockParameter, fabric_colour, no_derived};
 use super::{EvaluatorUnit, Parsed};
@@ -91,6 +88,14 @@ const PARAMETERS: &[StockParameter] = &[
     },
 ];
 
+/// `cloth_stock_f` of Filament's cloth model over the stock block.
+#[cfg(feature = "runtime")]
+pub const FILE: crate::shader::ShaderFile = crate::shader::ShaderFile {
+    name: "evaluator/filament",
+    path: "src/evaluator/filament/filament.wgsl",
+    source: include_str!("filament.wgsl"),
+};
+
 /// The model.
 pub static MODEL: StockModel = StockModel {
     name: "filament",
@@ -102,7 +107,7 @@ pub static MODEL: StockModel = StockModel {
     reciprocal: false,
     conserves_energy: false,
     #[cfg(feature = "runtime")]
-    wgsl: &gpu::FILE,
+    wgsl: &FILE,
 };
 
 /// Filament's own defaults where it has them: sheenColor = √baseColor.
@@ -111,10 +116,8 @@ fn start(fabric: &Fabric) -> Vec<f64> {
     vec![r, g, b, 0.6, r.sqrt(), g.sqrt(), b.sqrt(), 0.2, 0.2, 0.2]
 }
 
-/// F of the cloth model (`cloth_brdf` of filament.wgsl is its twin).
-fn eval(p: &[f64], _: &[f64], wi: DVec3, wo: DVec3) -> DVec3 {
-    let (l, v) = (wi, wo);
-    let h = (l + v).normalize();
+/// F of the cloth model (`cloth_stock_f` of filament.wgsl is its twin).
+fn eval(p: &[f64], _: &[f64], l: DVec3, v: DVec3, h: DVec3) -> DVec3 {
     let base = DVec3::new(p[0], p[1], p[2]);
     let alpha = p[3] * p[3];
     let sheen = DVec3::new(p[4], p[5], p[6]);

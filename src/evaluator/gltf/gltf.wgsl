@@ -14,13 +14,8 @@ fn cloth_gltf_sheen_albedo(mu: f32) -> f32 {
     return a + (cloth_stock_derived(k + 1u) - a) * t;
 }
 
-fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
-    if wi.z <= 0.0 || wo.z <= 0.0 {
-        return vec3<f32>(0.0);
-    }
-    let l = wi;
-    let v = wo;
-    let h = normalize(l + v);
+// `eval`: F for l = wi, v = wo above the horizon and their half vector h.
+fn cloth_stock_f(l: vec3<f32>, v: vec3<f32>, h: vec3<f32>) -> vec3<f32> {
     let base = cloth_stock_colour(0u);
     let metallic = cloth_stock_parameter(3u);
     let roughness = cloth_stock_parameter(4u);

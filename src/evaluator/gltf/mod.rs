@@ -16,8 +16,6 @@
 //! The specification gives no test values for these; the unit tests pin the reductions it
 //! implies (no sheen and no anisotropy is the core material).
 
-#[cfg(feature = "runtime")]
-pub mod gpu;
 pub mod sheen_albedo;
 
 use super::stock::lobes::{
@@ -64,7 +62,8 @@ const PARAMETERS: &[StockParameter] = &[
         lower: 0.0,
         upper: 1.0,
     },
-    // α = roughness² must not be 0 (Appendix B); 0.05 is beyond any cloth highlight.
+    // α = roughness² must not be 0 (Appendix B); a floor for a cloth's highlight, not a
+    // mirror's.
     StockParameter {
         name: "roughnessFactor",
         lower: 0.05,
@@ -102,6 +101,14 @@ const PARAMETERS: &[StockParameter] = &[
     },
 ];
 
+/// `cloth_stock_f` of the glTF material over the stock block.
+#[cfg(feature = "runtime")]
+pub const FILE: crate::shader::ShaderFile = crate::shader::ShaderFile {
+    name: "evaluator/gltf",
+    path: "src/evaluator/gltf/gltf.wgsl",
+    source: include_str!("gltf.wgsl"),
+};
+
 /// The model.
 pub static MODEL: StockModel = StockModel {
     name: "gltf",
@@ -113,7 +120,7 @@ pub static MODEL: StockModel = StockModel {
     reciprocal: true,
     conserves_energy: true,
     #[cfg(feature = "runtime")]
-    wgsl: &gpu::FILE,
+    wgsl: &FILE,
 };
 
 fn start(fabric: &Fabric) -> Vec<f64> {
@@ -129,10 +136,8 @@ fn derive(values: &[f64]) -> Vec<f64> {
     sheen_albedo::albedo_row(values[10])
 }
 
-/// F = f(wi, wo) cos θi of the material (`cloth_brdf` of gltf.wgsl is its twin).
-fn eval(p: &[f64], derived: &[f64], wi: DVec3, wo: DVec3) -> DVec3 {
-    let (l, v) = (wi, wo);
-    let h = (l + v).normalize();
+/// F = f(wi, wo) cos θi of the material (`cloth_stock_f` of gltf.wgsl is its twin).
+fn eval(p: &[f64], derived: &[f64], l: DVec3, v: DVec3, h: DVec3) -> DVec3 {
     let base = DVec3::new(p[0], p[1], p[2]);
     let (metallic, roughness, strength, rotation) = (p[3], p[4], p[5], p[6]);
     let sheen = DVec3::new(p[7], p[8], p[9]);

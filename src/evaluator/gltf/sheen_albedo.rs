@@ -4,7 +4,7 @@
 //! or a fit); here it is a table over μ = n·v and the sheen roughness r, integrated once
 //! per process.
 
-use crate::evaluator::stock::lobes::{charlie_d, charlie_visibility};
+use crate::evaluator::stock::lobes::{charlie_d, charlie_visibility, midpoint_integral};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -23,25 +23,16 @@ fn roughness_of_row(j: usize) -> f64 {
 }
 
 /// E at μ for sheen roughness r: `∫ D(h) V(v, l) (n·l) dωl`, by the midpoint rule in
-/// (n·l, φ) with 128 × 128 cells (the lobe's width at the smallest roughness spans several).
+/// (n·l, φ) with 128 × 128 cells, which the lobe at the smallest roughness spans several of.
 fn integrate(mu: f64, roughness: f64) -> f64 {
     let alpha = roughness * roughness;
     let mu = mu.max(1e-3);
     let v = DVec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-    let (n_cos, n_phi) = (128, 128);
-    let mut sum = 0.0;
-    for i in 0..n_cos {
-        let c = (i as f64 + 0.5) / n_cos as f64;
-        let s = (1.0 - c * c).sqrt();
-        for k in 0..n_phi {
-            let phi = PI * (k as f64 + 0.5) / n_phi as f64;
-            let l = DVec3::new(s * phi.cos(), s * phi.sin(), c);
-            let h = (l + v).normalize();
-            sum += charlie_d(alpha, h.z, 0.0) * charlie_visibility(alpha, mu, c) * c;
-        }
-    }
     // Both halves in φ: the integrand is even in φ.
-    sum * 2.0 * PI / (n_cos * n_phi) as f64
+    2.0 * midpoint_integral(128, 128, PI, |l| {
+        let h = (l + v).normalize();
+        charlie_d(alpha, h.z, 0.0) * charlie_visibility(alpha, mu, l.z) * l.z
+    })
 }
 
 /// The table, row j (roughness) by column k (μ). The Λ of the Charlie visibility is a fit,

@@ -18,8 +18,6 @@
 //! coat, no transmission, no subsurface. The fuzz's direction dependence sits on n·v only,
 //! so the model is not reciprocal.
 
-#[cfg(feature = "runtime")]
-pub mod gpu;
 pub mod zeltner;
 
 use super::stock::lobes::ggx_anisotropic_d;
@@ -59,7 +57,7 @@ const PARAMETERS: &[StockParameter] = &[
         lower: 0.0,
         upper: 1.0,
     },
-    // α below 0.0025 is narrower than any cloth highlight.
+    // The specular lobe of a cloth, not a mirror: a floor on α (r = 0.05, α = 0.0025).
     StockParameter {
         name: "specular_roughness",
         lower: 0.05,
@@ -98,6 +96,14 @@ const PARAMETERS: &[StockParameter] = &[
     },
 ];
 
+/// `cloth_stock_f` of open_pbr_surface over the stock block.
+#[cfg(feature = "runtime")]
+pub const FILE: crate::shader::ShaderFile = crate::shader::ShaderFile {
+    name: "evaluator/openpbr",
+    path: "src/evaluator/openpbr/openpbr.wgsl",
+    source: include_str!("openpbr.wgsl"),
+};
+
 /// The model.
 pub static MODEL: StockModel = StockModel {
     name: "openpbr",
@@ -109,7 +115,7 @@ pub static MODEL: StockModel = StockModel {
     reciprocal: false,
     conserves_energy: true,
     #[cfg(feature = "runtime")]
-    wgsl: &gpu::FILE,
+    wgsl: &FILE,
 };
 
 fn start(fabric: &Fabric) -> Vec<f64> {
@@ -166,10 +172,8 @@ pub fn ggx_dir_albedo(x: f64, y: f64, f0: f64, f90: f64) -> f64 {
     f0 * a + f90 * b
 }
 
-/// F of the node (`cloth_brdf` of openpbr.wgsl is its twin).
-fn eval(p: &[f64], _: &[f64], wi: DVec3, wo: DVec3) -> DVec3 {
-    let (l, v) = (wi, wo);
-    let h = (l + v).normalize();
+/// F of the node (`cloth_stock_f` of openpbr.wgsl is its twin).
+fn eval(p: &[f64], _: &[f64], l: DVec3, v: DVec3, h: DVec3) -> DVec3 {
     let base = DVec3::new(p[0], p[1], p[2]);
     let (roughness, anisotropy, fuzz_weight) = (p[3], p[4], p[5]);
     let fuzz_colour = DVec3::new(p[6], p[7], p[8]);
@@ -201,6 +205,7 @@ fn eval(p: &[f64], _: &[f64], wi: DVec3, wo: DVec3) -> DVec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::evaluator::stock::StockMaterial;
 
     #[test]
     fn the_fresnel_is_four_percent_at_normal_incidence_and_one_at_grazing() {
@@ -217,20 +222,11 @@ mod tests {
 
     #[test]
     fn without_fuzz_a_black_base_reflects_only_the_specular_and_a_full_fuzz_darkens_it() {
+        let material = |values: &[f64]| StockMaterial::new(&MODEL, values);
         let (wi, wo) = (DVec3::new(0.6, 0.0, 0.8), DVec3::new(-0.6, 0.0, 0.8));
-        let bare = eval(
-            &[0.0, 0.0, 0.0, 0.4, 0.0, 0.0, 1.0, 1.0, 1.0, 0.5],
-            &[],
-            wi,
-            wo,
-        );
+        let bare = material(&[0.0, 0.0, 0.0, 0.4, 0.0, 0.0, 1.0, 1.0, 1.0, 0.5]).eval(wi, wo);
         assert!(bare.x > 0.0 && bare.x == bare.y && bare.y == bare.z);
-        let black_fuzz = eval(
-            &[0.0, 0.0, 0.0, 0.4, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5],
-            &[],
-            wi,
-            wo,
-        );
+        let black_fuzz = material(&[0.0, 0.0, 0.0, 0.4, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5]).eval(wi, wo);
         let albedo = zeltner::dir_albedo(0.8, 0.5);
         assert!((black_fuzz - bare * (1.0 - albedo)).abs().max_element() < 1e-15);
     }

@@ -59,13 +59,8 @@ fn cloth_zeltner_ltc(l: vec3<f32>, v: vec3<f32>, r: f32) -> f32 {
     return max(t.z, 0.0) / CLOTH_STOCK_PI * q * q;
 }
 
-fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
-    if wi.z <= 0.0 || wo.z <= 0.0 {
-        return vec3<f32>(0.0);
-    }
-    let l = wi;
-    let v = wo;
-    let h = normalize(l + v);
+// `eval`: F for l = wi, v = wo above the horizon and their half vector h.
+fn cloth_stock_f(l: vec3<f32>, v: vec3<f32>, h: vec3<f32>) -> vec3<f32> {
     let base = cloth_stock_colour(0u);
     let roughness = cloth_stock_parameter(3u);
     let anisotropy = cloth_stock_parameter(4u);

@@ -52,22 +52,13 @@ pub fn ltc_brdf(l: DVec3, v: DVec3, r: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::evaluator::stock::lobes::midpoint_integral;
 
     #[test]
     fn the_ltc_distributes_unit_mass_over_the_hemisphere() {
         for (mu, r) in [(0.9f64, 0.3), (0.5, 0.6), (0.2, 1.0)] {
             let v = DVec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
-            let (n_c, n_p) = (800, 400);
-            let mut sum = 0.0;
-            for i in 0..n_c {
-                let c = (i as f64 + 0.5) / n_c as f64;
-                let s = (1.0 - c * c).sqrt();
-                for k in 0..n_p {
-                    let phi = 2.0 * PI * (k as f64 + 0.5) / n_p as f64;
-                    sum += ltc_brdf(DVec3::new(s * phi.cos(), s * phi.sin(), c), v, r);
-                }
-            }
-            let mass = sum * 2.0 * PI / (n_c * n_p) as f64;
+            let mass = midpoint_integral(800, 400, 2.0 * PI, |l| ltc_brdf(l, v, r));
             // Mass falls below the horizon where the transformed lobe leans past it.
             assert!(mass > 0.8 && mass < 1.0 + 1e-3, "μ {mu} r {r}: {mass}");
         }

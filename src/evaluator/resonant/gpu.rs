@@ -17,9 +17,8 @@
 //! Why a buffer and not constants: the editor of `view --edit` shades the fabric being edited
 //! with this form, and an edit must show on the next frame. With the fabric in the buffer an
 //! edit is one `queue.write_buffer` ([`GpuBrdf::update_fabric`]); the shader, its pipelines
-//! and the bind group stay. (Until 2026-12-07 the fabric was baked into the WGSL as
-//! constants, one call per curve piece unrolled; the per-pixel cost of reading it from the
-//! buffer instead is in docs/notebook/2026-12-07-resonant-from-a-buffer.md.)
+//! and the bind group stay. What reading the fabric from a buffer rather than from
+//! compiled-in constants costs a frame: docs/notebook/2026-12-07-resonant-from-a-buffer.md.
 //!
 //! [`GaussLegendre::new`]: crate::model::resonant::GaussLegendre::new
 

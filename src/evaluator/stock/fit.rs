@@ -7,7 +7,9 @@
 //! `rms_uniform² + rms_highlight²`: neither the dim many nor the bright few decide alone.
 //! The pairs are drawn with seeds of their own, apart from the validation sets that the
 //! errors are measured on ([`crate::measure::accuracy`]), and F there is the resonant
-//! quadrature (its error is far below any stock model's).
+//! quadrature: the direct rule's accuracy is not needed to fit models this far from the
+//! fabric, and the resonant rule costs far less (both errors compared in
+//! docs/notebook/2026-12-07-export.md).
 
 use super::{StockMaterial, StockModel};
 use crate::fit::bounded::{BoundedProblem, forward_differences, minimise, u_of_value, value_of_u};

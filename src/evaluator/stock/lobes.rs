@@ -4,6 +4,26 @@
 
 use glam::DVec3;
 use std::f64::consts::PI;
+use std::ops::{AddAssign, Mul};
+
+/// `∫ f(ω) dω` over the directions above the horizon with azimuth φ in [0, `phi_max`], by the
+/// midpoint rule on `n_cos` × `n_phi` cells of equal solid angle in (cos θ, φ): what the stock
+/// models' albedos and normalisations are integrated with.
+pub fn midpoint_integral<T>(n_cos: usize, n_phi: usize, phi_max: f64, f: impl Fn(DVec3) -> T) -> T
+where
+    T: Default + AddAssign + Mul<f64, Output = T>,
+{
+    let mut sum = T::default();
+    for i in 0..n_cos {
+        let c = (i as f64 + 0.5) / n_cos as f64;
+        let s = (1.0 - c * c).sqrt();
+        for k in 0..n_phi {
+            let phi = phi_max * (k as f64 + 0.5) / n_phi as f64;
+            sum += f(DVec3::new(s * phi.cos(), s * phi.sin(), c));
+        }
+    }
+    sum * (phi_max / (n_cos * n_phi) as f64)
+}
 
 /// The "Charlie" sheen distribution of Estevez and Kulla (2017), as KHR_materials_sheen
 /// writes it: `D(h) = (2 + 1/α) · max(sin²θh, floor)^(1/(2α)) / (2π)`, α the squared sheen
@@ -75,19 +95,9 @@ pub fn ggx_anisotropic_v(at: f64, ab: f64, t: DVec3, b: DVec3, v: DVec3, l: DVec
 mod tests {
     use super::*;
 
-    /// ∫ D(h) (n·h) dωh over the hemisphere by the midpoint rule in (cos θ, φ).
+    /// ∫ D(h) (n·h) dωh over the hemisphere.
     fn projected_area(d: impl Fn(DVec3) -> f64) -> f64 {
-        let (n_mu, n_phi) = (4000, 64);
-        let mut sum = 0.0;
-        for i in 0..n_mu {
-            let mu = (i as f64 + 0.5) / n_mu as f64;
-            let s = (1.0 - mu * mu).sqrt();
-            for k in 0..n_phi {
-                let phi = 2.0 * PI * (k as f64 + 0.5) / n_phi as f64;
-                sum += d(DVec3::new(s * phi.cos(), s * phi.sin(), mu)) * mu;
-            }
-        }
-        sum * 2.0 * PI / (n_mu * n_phi) as f64
+        midpoint_integral(4000, 64, 2.0 * PI, |h| d(h) * h.z)
     }
 
     #[test]

@@ -49,16 +49,18 @@ pub struct StockModel {
     /// Constants derived from the parameter values that both forms read (at most
     /// [`MAX_DERIVED`]); most models derive none.
     pub derive: fn(&[f64]) -> Vec<f64>,
-    /// F(wi, wo) with the cosine, for directions above the horizon, from the parameter
-    /// values and the derived constants.
-    pub eval: fn(&[f64], &[f64], DVec3, DVec3) -> DVec3,
+    /// F(wi, wo) with the cosine from the parameter values and the derived constants, for
+    /// l = wi and v = wo above the horizon and their half vector h (the horizon test and h
+    /// are [`StockMaterial::eval`]'s, and `cloth_brdf`'s in stock.wgsl).
+    pub eval: fn(&[f64], &[f64], DVec3, DVec3, DVec3) -> DVec3,
     /// Whether F(wi, wo)/cos θi = F(wo, wi)/cos θo for every parameter value.
     pub reciprocal: bool,
     /// Whether the model is built to reflect at most what arrives (a white material's
     /// directional albedo ≤ 1, up to the accuracy of its fitted parts): the white furnace
     /// of tests/model/stock.rs holds it to that.
     pub conserves_energy: bool,
-    /// The unit's WGSL file, defining `cloth_brdf` over the parameters of `stock.wgsl`.
+    /// The unit's WGSL file, defining `cloth_stock_f(l, v, h)` (the twin of `eval`) over the
+    /// parameters of `stock.wgsl`.
     #[cfg(feature = "runtime")]
     pub wgsl: &'static crate::shader::ShaderFile,
 }
@@ -98,7 +100,7 @@ impl StockMaterial {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return DVec3::ZERO;
         }
-        (self.model.eval)(&self.values, &self.derived, wi, wo)
+        (self.model.eval)(&self.values, &self.derived, wi, wo, (wi + wo).normalize())
     }
 
     /// The value of the parameter named `name`.

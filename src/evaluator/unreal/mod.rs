@@ -15,9 +15,6 @@
 //! UE 5's energy-conservation factors on these lobes are left out (their terms are tables
 //! of the engine's), as is its `n·v + 1e-5` guard, which only matters at the horizon.
 
-#[cfg(feature = "runtime")]
-pub mod gpu;
-
 use super::stock::lobes::{neubelt_visibility, schlick_weight};
 use super::stock::{StockModel, StockParameter, fabric_colour, no_derived};
 use super::{EvaluatorUnit, Parsed};
@@ -65,7 +62,7 @@ const PARAMETERS: &[StockParameter] = &[
         lower: 0.0,
         upper: 1.0,
     },
-    // a² = Roughness⁴: below 0.1 the GGX lobe is narrower than any cloth highlight.
+    // a² = Roughness⁴: a floor on the lobe's width, a cloth's highlight, not a mirror's.
     StockParameter {
         name: "Roughness",
         lower: 0.1,
@@ -93,6 +90,14 @@ const PARAMETERS: &[StockParameter] = &[
     },
 ];
 
+/// `cloth_stock_f` of Unreal's cloth shading model over the stock block.
+#[cfg(feature = "runtime")]
+pub const FILE: crate::shader::ShaderFile = crate::shader::ShaderFile {
+    name: "evaluator/unreal",
+    path: "src/evaluator/unreal/unreal.wgsl",
+    source: include_str!("unreal.wgsl"),
+};
+
 /// The model.
 pub static MODEL: StockModel = StockModel {
     name: "unreal",
@@ -104,7 +109,7 @@ pub static MODEL: StockModel = StockModel {
     reciprocal: true,
     conserves_energy: false,
     #[cfg(feature = "runtime")]
-    wgsl: &gpu::FILE,
+    wgsl: &FILE,
 };
 
 /// The material editor's defaults (Specular 0.5) with the fabric's colour.
@@ -137,10 +142,8 @@ fn vis_smith_joint_approx(a2: f64, n_dot_v: f64, n_dot_l: f64) -> f64 {
     0.5 / (n_dot_l * (n_dot_v * (1.0 - a) + a) + n_dot_v * (n_dot_l * (1.0 - a) + a))
 }
 
-/// F of the cloth shading model (`cloth_brdf` of unreal.wgsl is its twin).
-fn eval(p: &[f64], _: &[f64], wi: DVec3, wo: DVec3) -> DVec3 {
-    let (l, v) = (wi, wo);
-    let h = (l + v).normalize();
+/// F of the cloth shading model (`cloth_stock_f` of unreal.wgsl is its twin).
+fn eval(p: &[f64], _: &[f64], l: DVec3, v: DVec3, h: DVec3) -> DVec3 {
     let base = DVec3::new(p[0], p[1], p[2]);
     let (metallic, specular, roughness, cloth) = (p[3], p[4], p[5], p[9]);
     let fuzz = DVec3::new(p[6], p[7], p[8]);
@@ -157,6 +160,7 @@ fn eval(p: &[f64], _: &[f64], wi: DVec3, wo: DVec3) -> DVec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::evaluator::stock::StockMaterial;
 
     #[test]
     fn the_inverted_ggx_has_unit_projected_area_and_the_ggx_too() {
@@ -190,8 +194,9 @@ mod tests {
         let (wi, wo) = (DVec3::new(0.6, 0.0, 0.8), DVec3::new(-0.28, 0.0, 0.96));
         let h = (wi + wo).normalize();
         let values = |cloth| [0.5, 0.4, 0.3, 0.0, 0.5, 0.6, 0.9, 0.8, 0.7, cloth];
-        let lit = eval(&values(0.0), &[], wi, wo);
-        let fuzz = eval(&values(1.0), &[], wi, wo);
+        let material = |cloth| StockMaterial::new(&MODEL, &values(cloth));
+        let lit = material(0.0).eval(wi, wo);
+        let fuzz = material(1.0).eval(wi, wo);
         let a2 = 0.6f64.powi(4);
         let fc = schlick_weight(wo.dot(h));
         let spec1 =

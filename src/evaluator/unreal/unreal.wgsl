@@ -28,13 +28,8 @@ fn cloth_unreal_vis_smith(a2: f32, n_dot_v: f32, n_dot_l: f32) -> f32 {
     return 0.5 / (n_dot_l * (n_dot_v * (1.0 - a) + a) + n_dot_v * (n_dot_l * (1.0 - a) + a));
 }
 
-fn cloth_brdf(wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
-    if wi.z <= 0.0 || wo.z <= 0.0 {
-        return vec3<f32>(0.0);
-    }
-    let l = wi;
-    let v = wo;
-    let h = normalize(l + v);
+// `eval`: F for l = wi, v = wo above the horizon and their half vector h.
+fn cloth_stock_f(l: vec3<f32>, v: vec3<f32>, h: vec3<f32>) -> vec3<f32> {
     let base = cloth_stock_colour(0u);
     let metallic = cloth_stock_parameter(3u);
     let specular = cloth_stock_parameter(4u);

@@ -10,7 +10,7 @@ use super::{ExportDocument, loss_json};
 use crate::scene::Light;
 use crate::scene::mesh::Mesh;
 use base64::Engine;
-use glam::{DVec3, Mat3, Quat, Vec3};
+use glam::{DVec3, Quat, Vec3};
 use serde_json::{Value, json};
 
 /// glTF's component types and buffer targets.
@@ -65,12 +65,10 @@ fn floats(values: impl Iterator<Item = f32>) -> Vec<u8> {
 }
 
 /// The rotation that turns −z (where a glTF camera looks and a light shines) to `forward`
-/// with +y as near to `up` as it can be.
+/// with +y as near to `up` as it can be: the inverse of the view matrix looking that way.
 fn looking(forward: Vec3, up: Vec3) -> Quat {
-    let back = -forward.normalize();
-    let right = up.cross(back).normalize();
-    let up = back.cross(right);
-    Quat::from_mat3(&Mat3::from_cols(right, up, back)).normalize()
+    let view = glam::camera::rh::view::look_to_mat3(forward.normalize(), up.normalize());
+    Quat::from_mat3(&view.transpose()).normalize()
 }
 
 /// The mesh's buffers and primitive.
@@ -254,5 +252,8 @@ mod tests {
         let q = looking(Vec3::X, Vec3::Y);
         assert!((q * -Vec3::Z - Vec3::X).length() < 1e-6);
         assert!((q * Vec3::Y - Vec3::Y).length() < 1e-6);
+        // Directions of any length, as the camera's target − eye.
+        let q = looking(Vec3::new(3.0, -2.0, 0.0), Vec3::Y);
+        assert!((q * -Vec3::Z - Vec3::new(3.0, -2.0, 0.0).normalize()).length() < 1e-6);
     }
 }

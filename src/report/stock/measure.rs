@@ -10,7 +10,6 @@ use crate::evaluator::{EvaluationContext, FabricEvaluator};
 use crate::export::TARGETS;
 use crate::export::loss::{ALBEDO_SAMPLES, FabricReference, LOSS_PAIRS};
 use crate::gpu::GpuContext;
-use crate::measure::accuracy::Reference;
 use crate::model::Fabric;
 use crate::render::drape_loss::DrapeReference;
 use crate::report::ReportError;
@@ -100,7 +99,7 @@ pub fn measure(
             }
         };
         let table_figures = table.as_ref().map(|table| {
-            let error = Reference::new(fabric, LOSS_PAIRS).measure(|wi, wo| table.eval(wi, wo));
+            let error = reference.errors(|wi, wo| table.eval(wi, wo));
             StockTable {
                 label: table.label(),
                 uniform: error.uniform.relative_rms,
