@@ -3,10 +3,13 @@
 //! report.json, with its page and pictures written. One fabric and tiny tiles: the
 //! registry's iteration is under test, not the fits.
 
+use clothbake::bake::job::{BakeJob, Outcome, ResolutionChoice, run};
 use clothbake::export::TARGETS;
 use clothbake::formats::fabric_toml::FabricSet;
+use clothbake::model::Fabric;
 use clothbake::report::run_stock;
 use clothbake::report::stock::StockConfig;
+use clothbake::table::Layout;
 use serde_json::Value;
 use std::path::Path;
 
@@ -26,6 +29,23 @@ fn png_size(path: &Path) -> (u32, u32) {
     (reader.info().width, reader.info().height)
 }
 
+/// Bakes FABRIC's table at the smallest resolution of the default layout into DIR, as
+/// `bake` writes it: a fresh clone has no baked tables, and the section's table row reads
+/// the tables directory.
+fn bake_small_table(fabric: &Fabric, dir: &Path) {
+    let layout = Layout::DEFAULT;
+    let job = BakeJob {
+        fabrics: vec![fabric.clone()],
+        layout,
+        resolution: ResolutionChoice::Fixed(layout.resolution_ladder()[0]),
+        out: dir.to_path_buf(),
+        force: true,
+        environment_samples: None,
+    };
+    let progress = |_: &str, _: u32, _: u64| -> Box<dyn Fn() + Sync> { Box::new(|| {}) };
+    run(&job, &progress, &mut |_: &Fabric, _: &Outcome| {}).expect("the bake runs");
+}
+
 #[test]
 fn stock_section_lists_every_fabric_by_every_target_and_merges_into_the_report() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -35,8 +55,10 @@ fn stock_section_lists_every_fabric_by_every_target_and_merges_into_the_report()
     // The committed report takes the section, as `--section stock` merges it into report/.
     std::fs::copy(root.join("report/report.json"), out.join("report.json")).unwrap();
     let fabric = FabricSet::builtin().get("velvet").unwrap().clone();
+    let tables = out.join("tables");
+    bake_small_table(&fabric, &tables);
     let config = StockConfig {
-        tables: root.join("tables"),
+        tables,
         tile: 48,
         environment_samples: 4,
         grid: true,
@@ -65,6 +87,11 @@ fn stock_section_lists_every_fabric_by_every_target_and_merges_into_the_report()
     for f in fabrics {
         let name = f["name"].as_str().unwrap();
         let table = &f["table"];
+        assert!(
+            table.is_object(),
+            "{name}: no table row: {}",
+            stock["status"]
+        );
         let table_error = finite(&table["uniform"], "table uniform")
             .max(finite(&table["highlight"], "table highlight"));
         let points = f["points"].as_array().unwrap();
