@@ -87,7 +87,7 @@ fn check_timing(t: &Value, samples: usize, what: &str) {
 /// Decodes a PNG and checks that it is a real plot: its size, a share of non-background
 /// pixels (axes, text, curves) between 1% and 60%, and pixels of each expected series
 /// colour (the curves were drawn, not only the frame).
-fn check_png(path: &Path, colours: &[[u8; 3]]) {
+pub(crate) fn check_png(path: &Path, colours: &[[u8; 3]]) {
     let decoder = png::Decoder::new(std::io::BufReader::new(
         std::fs::File::open(path).expect("plot exists"),
     ));

@@ -36,56 +36,16 @@ const SIN2_FLOOR: f64 = 0.0078125;
 
 /// The material's inputs, as a Filament `.mat` names them.
 const PARAMETERS: &[StockParameter] = &[
-    StockParameter {
-        name: "baseColor.r",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "baseColor.g",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "baseColor.b",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "roughness",
-        lower: MIN_PERCEPTUAL_ROUGHNESS,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "sheenColor.r",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "sheenColor.g",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "sheenColor.b",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "subsurfaceColor.r",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "subsurfaceColor.g",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "subsurfaceColor.b",
-        lower: 0.0,
-        upper: 1.0,
-    },
+    StockParameter::new("baseColor.r", 0.0, 1.0),
+    StockParameter::new("baseColor.g", 0.0, 1.0),
+    StockParameter::new("baseColor.b", 0.0, 1.0),
+    StockParameter::new("roughness", MIN_PERCEPTUAL_ROUGHNESS, 1.0),
+    StockParameter::new("sheenColor.r", 0.0, 1.0),
+    StockParameter::new("sheenColor.g", 0.0, 1.0),
+    StockParameter::new("sheenColor.b", 0.0, 1.0),
+    StockParameter::new("subsurfaceColor.r", 0.0, 1.0),
+    StockParameter::new("subsurfaceColor.g", 0.0, 1.0),
+    StockParameter::new("subsurfaceColor.b", 0.0, 1.0),
 ];
 
 /// `cloth_stock_f` of Filament's cloth model over the stock block.

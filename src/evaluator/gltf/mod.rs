@@ -42,63 +42,23 @@ fn parse(parameter: Option<&str>) -> Parsed {
 
 /// The material's inputs, as the glTF JSON names them.
 const PARAMETERS: &[StockParameter] = &[
-    StockParameter {
-        name: "baseColorFactor.r",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "baseColorFactor.g",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "baseColorFactor.b",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "metallicFactor",
-        lower: 0.0,
-        upper: 1.0,
-    },
+    StockParameter::new("baseColorFactor.r", 0.0, 1.0),
+    StockParameter::new("baseColorFactor.g", 0.0, 1.0),
+    StockParameter::new("baseColorFactor.b", 0.0, 1.0),
+    StockParameter::new("metallicFactor", 0.0, 1.0),
     // α = roughness² must not be 0 (Appendix B); a floor for a cloth's highlight, not a
     // mirror's.
-    StockParameter {
-        name: "roughnessFactor",
-        lower: 0.05,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "anisotropyStrength",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "anisotropyRotation",
-        lower: -FRAC_PI_2,
-        upper: FRAC_PI_2,
-    },
-    StockParameter {
-        name: "sheenColorFactor.r",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "sheenColorFactor.g",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "sheenColorFactor.b",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "sheenRoughnessFactor",
-        lower: sheen_albedo::MIN_SHEEN_ROUGHNESS,
-        upper: 1.0,
-    },
+    StockParameter::new("roughnessFactor", 0.05, 1.0),
+    StockParameter::new("anisotropyStrength", 0.0, 1.0),
+    StockParameter::new("anisotropyRotation", -FRAC_PI_2, FRAC_PI_2),
+    StockParameter::new("sheenColorFactor.r", 0.0, 1.0),
+    StockParameter::new("sheenColorFactor.g", 0.0, 1.0),
+    StockParameter::new("sheenColorFactor.b", 0.0, 1.0),
+    StockParameter::new(
+        "sheenRoughnessFactor",
+        sheen_albedo::MIN_SHEEN_ROUGHNESS,
+        1.0,
+    ),
 ];
 
 /// `cloth_stock_f` of the glTF material over the stock block.

@@ -42,58 +42,18 @@ fn parse(parameter: Option<&str>) -> Parsed {
 
 /// The node's inputs, as MaterialX names them.
 const PARAMETERS: &[StockParameter] = &[
-    StockParameter {
-        name: "base_color.r",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "base_color.g",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "base_color.b",
-        lower: 0.0,
-        upper: 1.0,
-    },
+    StockParameter::new("base_color.r", 0.0, 1.0),
+    StockParameter::new("base_color.g", 0.0, 1.0),
+    StockParameter::new("base_color.b", 0.0, 1.0),
     // The specular lobe of a cloth, not a mirror: a floor on α (r = 0.05, α = 0.0025).
-    StockParameter {
-        name: "specular_roughness",
-        lower: 0.05,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "specular_roughness_anisotropy",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "fuzz_weight",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "fuzz_color.r",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "fuzz_color.g",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "fuzz_color.b",
-        lower: 0.0,
-        upper: 1.0,
-    },
+    StockParameter::new("specular_roughness", 0.05, 1.0),
+    StockParameter::new("specular_roughness_anisotropy", 0.0, 1.0),
+    StockParameter::new("fuzz_weight", 0.0, 1.0),
+    StockParameter::new("fuzz_color.r", 0.0, 1.0),
+    StockParameter::new("fuzz_color.g", 0.0, 1.0),
+    StockParameter::new("fuzz_color.b", 0.0, 1.0),
     // MaterialX clamps the fuzz roughness to [0.01, 1].
-    StockParameter {
-        name: "fuzz_roughness",
-        lower: 0.01,
-        upper: 1.0,
-    },
+    StockParameter::new("fuzz_roughness", 0.01, 1.0),
 ];
 
 /// `cloth_stock_f` of open_pbr_surface over the stock block.

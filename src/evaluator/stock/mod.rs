@@ -36,6 +36,13 @@ pub struct StockParameter {
     pub upper: f64,
 }
 
+impl StockParameter {
+    /// The input `name`, fitted within [`lower`, `upper`].
+    pub const fn new(name: &'static str, lower: f64, upper: f64) -> Self {
+        Self { name, lower, upper }
+    }
+}
+
 /// A stock model: one engine's cloth material, as one registered evaluator.
 #[derive(Clone, Copy, Debug)]
 pub struct StockModel {

@@ -37,57 +37,17 @@ fn parse(parameter: Option<&str>) -> Parsed {
 
 /// The material's pins.
 const PARAMETERS: &[StockParameter] = &[
-    StockParameter {
-        name: "BaseColor.r",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "BaseColor.g",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "BaseColor.b",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "Metallic",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "Specular",
-        lower: 0.0,
-        upper: 1.0,
-    },
+    StockParameter::new("BaseColor.r", 0.0, 1.0),
+    StockParameter::new("BaseColor.g", 0.0, 1.0),
+    StockParameter::new("BaseColor.b", 0.0, 1.0),
+    StockParameter::new("Metallic", 0.0, 1.0),
+    StockParameter::new("Specular", 0.0, 1.0),
     // a² = Roughness⁴: a floor on the lobe's width, a cloth's highlight, not a mirror's.
-    StockParameter {
-        name: "Roughness",
-        lower: 0.1,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "FuzzColor.r",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "FuzzColor.g",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "FuzzColor.b",
-        lower: 0.0,
-        upper: 1.0,
-    },
-    StockParameter {
-        name: "Cloth",
-        lower: 0.0,
-        upper: 1.0,
-    },
+    StockParameter::new("Roughness", 0.1, 1.0),
+    StockParameter::new("FuzzColor.r", 0.0, 1.0),
+    StockParameter::new("FuzzColor.g", 0.0, 1.0),
+    StockParameter::new("FuzzColor.b", 0.0, 1.0),
+    StockParameter::new("Cloth", 0.0, 1.0),
 ];
 
 /// `cloth_stock_f` of Unreal's cloth shading model over the stock block.
