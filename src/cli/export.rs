@@ -3,20 +3,18 @@
 
 use super::CommandResult;
 use clothbake::export::loss::{FabricReference, LOSS_PAIRS, Loss};
-use clothbake::export::{export, target};
+use clothbake::export::{TARGETS, export, target};
 use clothbake::formats::fabric_toml::FabricSet;
 use clothbake::scene::Scene;
 use std::path::PathBuf;
 use std::time::Instant;
 
 #[derive(clap::Args)]
+#[command(after_help = targets_help())]
 pub struct Args {
     /// The fabric to export (a built-in one, or one of --fabrics).
     fabric: String,
-    /// The engine: gltf (glTF 2.0 with KHR_materials_sheen and _anisotropy, the drape mesh,
-    /// camera and lights), materialx (an OpenPBR Surface in MaterialX 1.39), filament
-    /// (Filament's cloth material inputs as JSON), unreal (Unreal's Cloth shading model pins
-    /// as JSON).
+    /// The engine whose file to write (TARGETS, below).
     #[arg(long, value_parser = target_name)]
     to: String,
     /// The file to write (written atomically: on any error no file is left).
@@ -26,6 +24,16 @@ pub struct Args {
     /// `clothbake weave` or `clothbake fit` output exports the same way).
     #[arg(long)]
     fabrics: Option<PathBuf>,
+}
+
+/// The targets of `--to`, from the registry: the word, the file's extension and the model
+/// the file holds.
+fn targets_help() -> String {
+    let rows: Vec<String> = TARGETS
+        .iter()
+        .map(|t| format!("  {:<10} .{:<5} {}", t.name, t.extension, t.model.title))
+        .collect();
+    format!("TARGETS:\n{}", rows.join("\n"))
 }
 
 fn target_name(name: &str) -> Result<String, String> {

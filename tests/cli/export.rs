@@ -177,3 +177,17 @@ fn export_refuses_an_unknown_fabric_a_damaged_file_and_an_unwritable_path_and_le
     names.sort();
     assert_eq!(names, ["damaged.toml", "file.txt"]);
 }
+
+#[test]
+fn export_help_lists_every_registered_target() {
+    let output = clothbake(&["export", "--help"]);
+    let text = output_text(&output);
+    assert!(output.status.success(), "{text}");
+    for target in TARGETS {
+        let row = format!(
+            "{:<10} .{:<5} {}",
+            target.name, target.extension, target.model.title
+        );
+        assert!(text.contains(&row), "--help lacks {row:?}: {text}");
+    }
+}
